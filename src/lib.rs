@@ -1,0 +1,4 @@
+//! Abaqus-style connector elements as FMI 2.0 Co-Simulation FMUs.
+#![deny(unsafe_code)]
+
+pub mod physics;

@@ -1,0 +1,680 @@
+//! Connector kinematics: the component positions c_k of every connection type and their
+//! gradients with respect to the node motions (seed pages 631–640, SPEC §4).
+//!
+//! Components use the Abaqus numbering k = 1..6 (slot k−1): 1–3 translations, 4–6 rotations.
+//! Node motions are δx (translation, W) and δθ (small rotation vector, W) per node; the
+//! gradient `Grad` of a component holds ∂c/∂x_a, ∂c/∂θ_a, ∂c/∂x_b, ∂c/∂θ_b. Component
+//! velocities and node loads (virtual work) both follow from these gradients, so the loads
+//! are exactly in equilibrium and a purely elastic connector is exactly conservative.
+
+use super::math::{
+    continue_branch, exp_so3, one_minus_cos_over_sq, rot_z, sinc, x_over_sin, Mat3, Quat, Real,
+    Vec3,
+};
+
+/// Pose and twist of one node, all in W.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Node {
+    /// Position x (m).
+    pub r: Vec3,
+    /// Orientation: maps node-local coordinates to W.
+    pub q: Quat,
+    /// Velocity (m/s).
+    pub v: Vec3,
+    /// Angular velocity (rad/s).
+    pub w: Vec3,
+}
+
+impl Default for Node {
+    fn default() -> Self {
+        Node {
+            r: Vec3::zeros(),
+            q: Quat::identity(),
+            v: Vec3::zeros(),
+            w: Vec3::zeros(),
+        }
+    }
+}
+
+/// Translational part of a connection type.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Translational {
+    /// No translational components.
+    None,
+    /// PROJECTION CARTESIAN: x, y, z along the centred projection triad.
+    ProjectionCartesian,
+    /// SLIDE-PLANE: y, z in the plane of normal e1a (available), x = e1a·d constrained.
+    SlidePlane,
+    /// RADIAL-THRUST: r (component 1) and l (component 3) about the axis e3a.
+    RadialThrust,
+}
+
+/// Rotational part of a connection type.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Rotational {
+    /// No rotational components.
+    None,
+    /// PROJECTION FLEXION-TORSION: α1, α2, β on the centred triad.
+    ProjectionFlexionTorsion,
+    /// REVOLUTE: α about e1a (available), e1b kept along e1a by two constraint rotations.
+    Revolute,
+}
+
+/// What a component slot is in a connection type.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Role {
+    /// Not part of the connection type.
+    Absent,
+    /// An available component: constitutive behaviour, stops, friction act on it.
+    Available,
+    /// A kinematic constraint, enforced by a penalty; its reaction is CRF/CRM.
+    Constrained,
+}
+
+/// A connection type: translational part + rotational part (or an assembled type).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ConnectionType {
+    /// Translational part.
+    pub trans: Translational,
+    /// Rotational part.
+    pub rot: Rotational,
+}
+
+impl ConnectionType {
+    /// Role of every component slot (k = 1..6 at index k−1).
+    pub fn roles(&self) -> [Role; 6] {
+        use Role::*;
+        let mut r = [Absent; 6];
+        match self.trans {
+            Translational::None => {}
+            Translational::ProjectionCartesian => r[..3].copy_from_slice(&[Available; 3]),
+            Translational::SlidePlane => r[..3].copy_from_slice(&[Constrained, Available, Available]),
+            Translational::RadialThrust => {
+                r[0] = Available;
+                r[2] = Available;
+            }
+        }
+        match self.rot {
+            Rotational::None => {}
+            Rotational::ProjectionFlexionTorsion => r[3..].copy_from_slice(&[Available; 3]),
+            Rotational::Revolute => r[3..].copy_from_slice(&[Available, Constrained, Constrained]),
+        }
+        r
+    }
+
+    /// Whether the local directions are the centred projection triad (else they follow node a).
+    pub fn centred(&self) -> bool {
+        self.trans == Translational::ProjectionCartesian
+            || self.rot == Rotational::ProjectionFlexionTorsion
+    }
+
+    /// Whether node a's orientation matters (else it is not an input of the FMU).
+    pub fn uses_orientation_a(&self) -> bool {
+        self.centred() || self.trans != Translational::None || self.rot != Rotational::None
+    }
+
+    /// Whether node b's orientation matters (RADIAL-THRUST: "orientation at b: ignored").
+    pub fn uses_orientation_b(&self) -> bool {
+        self.centred() || self.rot != Rotational::None
+    }
+
+    /// Whether the node positions matter.
+    pub fn uses_positions(&self) -> bool {
+        self.trans != Translational::None
+    }
+}
+
+/// Gradient of one component with respect to the node motions (all in W).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Grad {
+    /// ∂c/∂x_a
+    pub xa: Vec3,
+    /// ∂c/∂θ_a
+    pub ta: Vec3,
+    /// ∂c/∂x_b
+    pub xb: Vec3,
+    /// ∂c/∂θ_b
+    pub tb: Vec3,
+}
+
+impl Default for Grad {
+    fn default() -> Self {
+        Grad {
+            xa: Vec3::zeros(),
+            ta: Vec3::zeros(),
+            xb: Vec3::zeros(),
+            tb: Vec3::zeros(),
+        }
+    }
+}
+
+impl Grad {
+    /// Rate of the component for the node twists: ċ = ∇c · (v_a, ω_a, v_b, ω_b).
+    #[inline]
+    pub fn rate(&self, a: &Node, b: &Node) -> Real {
+        self.xa.dot(&a.v) + self.ta.dot(&a.w) + self.xb.dot(&b.v) + self.tb.dot(&b.w)
+    }
+}
+
+/// Angle branches and remembered directions: kinematic state kept between evaluations.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Branches {
+    /// Torsion β of PROJECTION FLEXION-TORSION (continuous, rad).
+    pub beta: Real,
+    /// Rotation α of PLANAR's REVOLUTE part (continuous, rad).
+    pub alpha: Real,
+    /// RADIAL-THRUST radial direction e_r in node-a coordinates, kept while r is tiny.
+    pub e_r_local: Vec3,
+}
+
+impl Default for Branches {
+    fn default() -> Self {
+        Branches {
+            beta: 0.0,
+            alpha: 0.0,
+            e_r_local: Vec3::x(),
+        }
+    }
+}
+
+/// Below this radius (m) RADIAL-THRUST keeps its last radial direction.
+pub const R_MIN: Real = 1e-9;
+/// Flexion angles closer than this to π (rad) are singular and refused.
+pub const ALPHA_MAX_GAP: Real = 1e-6;
+
+/// A configuration the kinematics cannot measure.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Singular {
+    /// PROJECTION FLEXION-TORSION with the shafts folded back (α → π).
+    FlexionNearPi(Real),
+    /// PLANAR with e3b perpendicular to the 2–3 plane of a (rotation α undefined).
+    RevoluteUndefined,
+    /// A value that is not finite appeared (non-finite input reached the kinematics).
+    NotFinite,
+}
+
+/// Component positions, their gradients and the local directions.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Geometry {
+    /// Position c_k of every component (slot k−1); 0 for absent slots.
+    pub pos: [Real; 6],
+    /// Gradient of every component.
+    pub grad: [Grad; 6],
+    /// Local connector directions {e1, e2, e3} as columns (in W).
+    pub triad: Mat3,
+    /// Updated branches (committed by the caller only when the step is accepted).
+    pub branches: Branches,
+}
+
+/// The centred projection triad of SPEC §4 with the flexion–torsion angles and Jacobians.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Centred {
+    /// {e1, e2, e3} as columns.
+    pub triad: Mat3,
+    /// (α1, α2, β), β on its continuous branch.
+    pub angles: Vec3,
+    /// Total flexion α.
+    pub alpha: Real,
+    /// K = ∂(α1, α2, β)/∂θ_b (rows); ∂/∂θ_a = −K.
+    pub k: Mat3,
+    /// A = ∂ψ/∂θ_a, the triad's rotation for a rotation of node a (W).
+    pub a: Mat3,
+    /// B = ∂ψ/∂θ_b; A + B = I.
+    pub b: Mat3,
+}
+
+/// The centred triad and angles (SPEC §4 steps 1–4), with exact derivatives.
+///
+/// Parametrisation used for the derivatives: R_a = R_c·E(−v)·Z(−β/2), R_b = R_c·E(v)·Z(β/2),
+/// v = (α1/2, α2/2, 0) in triad coordinates (E = exponential map, Z = rotation about 3).
+pub fn centred(ra: &Mat3, rb: &Mat3, beta_prev: Real) -> Result<Centred, Singular> {
+    let (e1a, e2a, e3a) = (ra.column(0), ra.column(1), ra.column(2));
+    let (e1b, e2b, e3b) = (rb.column(0), rb.column(1), rb.column(2));
+    // 1. total flexion α and α·q = (α / sin α)(e3a × e3b), smooth at α → 0
+    let w = e3a.cross(&e3b);
+    let s = w.norm();
+    let c = e3a.dot(&e3b);
+    let alpha = s.atan2(c);
+    if !alpha.is_finite() {
+        return Err(Singular::NotFinite);
+    }
+    if alpha > std::f64::consts::PI - ALPHA_MAX_GAP {
+        return Err(Singular::FlexionNearPi(alpha));
+    }
+    let phi = w * x_over_sin(alpha);
+    // 2. frame a rotated by +α/2 about q: its third axis is the bisector e3
+    let ra_half = exp_so3(&(phi * 0.5)) * ra;
+    // 3. torsion β (seed formula on the original frames), continued from the previous value
+    let beta_raw = (e2a.dot(&e1b) - e1a.dot(&e2b)).atan2(e1a.dot(&e1b) + e2a.dot(&e2b));
+    let beta = continue_branch(beta_raw, beta_prev);
+    // 4. {e1, e2, e3} = Rot(e3, β/2)·Rot(q, α/2)·{frame a}
+    let triad = ra_half * rot_z(0.5 * beta);
+    let a1 = triad.column(0).dot(&phi);
+    let a2 = triad.column(1).dot(&phi);
+
+    // Jacobian ∂Θ/∂θ_b = M⁻¹ R_cᵀ with M = Jb − Ja (triad coordinates):
+    // in-plane block (θ/sin θ)(I − q̂q̂ᵀ) + q̂q̂ᵀ, torsion 1/cos θ, θ = α/2.
+    let th = 0.5 * alpha;
+    let a_s = x_over_sin(th);
+    // (1 − a_s)/α², smooth: a_s ≈ 1 + α²/24 → −1/24
+    let coef = if alpha < 1e-4 {
+        -1.0 / 24.0
+    } else {
+        (1.0 - a_s) / (alpha * alpha)
+    };
+    let m_inv = Mat3::new(
+        a_s + coef * a1 * a1,
+        coef * a1 * a2,
+        0.0,
+        coef * a1 * a2,
+        a_s + coef * a2 * a2,
+        0.0,
+        0.0,
+        0.0,
+        1.0 / th.cos(),
+    );
+    let k = m_inv * triad.transpose();
+    // Triad variation δψ = ½(δθ_a + δθ_b) − R_c·N·δΘ with N = ½(Ja + Jb):
+    let h1 = one_minus_cos_over_sq(th);
+    let h2 = sinc(th);
+    let n = Mat3::new(
+        0.0,
+        0.0,
+        h2 * a2 * 0.25,
+        0.0,
+        0.0,
+        -h2 * a1 * 0.25,
+        -h1 * a2 * 0.25,
+        h1 * a1 * 0.25,
+        0.0,
+    );
+    let rnk = triad * n * k;
+    let half = Mat3::identity() * 0.5;
+    Ok(Centred {
+        triad,
+        angles: Vec3::new(a1, a2, beta),
+        alpha,
+        k,
+        a: half + rnk,
+        b: half - rnk,
+    })
+}
+
+/// Component positions and gradients of a connection type at nodes a, b.
+///
+/// `prev` holds the branches of the last accepted evaluation; the returned geometry carries
+/// the updated ones. Absent slots stay zero.
+pub fn geometry(
+    ct: ConnectionType,
+    a: &Node,
+    b: &Node,
+    prev: &Branches,
+) -> Result<Geometry, Singular> {
+    let ra = *a.q.to_rotation_matrix().matrix();
+    let rb = *b.q.to_rotation_matrix().matrix();
+    let d = b.r - a.r;
+    let mut g = Geometry {
+        pos: [0.0; 6],
+        grad: [Grad::default(); 6],
+        triad: ra,
+        branches: *prev,
+    };
+
+    // Local directions and, for the centred triad, the rotational components.
+    let mut tri_a = Mat3::identity(); // ∂ψ/∂θ_a
+    let mut tri_b = Mat3::zeros(); // ∂ψ/∂θ_b
+    if ct.centred() {
+        let cen = centred(&ra, &rb, prev.beta)?;
+        g.triad = cen.triad;
+        g.branches.beta = cen.angles.z;
+        tri_a = cen.a;
+        tri_b = cen.b;
+        if ct.rot == Rotational::ProjectionFlexionTorsion {
+            for i in 0..3 {
+                let row: Vec3 = cen.k.row(i).transpose();
+                g.pos[3 + i] = cen.angles[i];
+                g.grad[3 + i] = Grad {
+                    xa: Vec3::zeros(),
+                    ta: -row,
+                    xb: Vec3::zeros(),
+                    tb: row,
+                };
+            }
+        }
+    }
+
+    match ct.trans {
+        Translational::None => {}
+        Translational::ProjectionCartesian | Translational::SlidePlane => {
+            // x_i = e_i·d; δx_i = e_i·(δx_b − δx_a) + δψ·(e_i × d)
+            for i in 0..3 {
+                let e: Vec3 = g.triad.column(i).into();
+                let exd = e.cross(&d);
+                g.pos[i] = e.dot(&d);
+                g.grad[i] = Grad {
+                    xa: -e,
+                    ta: tri_a.transpose() * exd,
+                    xb: e,
+                    tb: tri_b.transpose() * exd,
+                };
+            }
+        }
+        Translational::RadialThrust => {
+            let e3a: Vec3 = ra.column(2).into();
+            let d_loc = ra.transpose() * d;
+            let r = d_loc.x.hypot(d_loc.y);
+            let l = d_loc.z;
+            // Why: e_r = d⊥/r is undefined on the axis; keep the last well-defined direction.
+            if r > R_MIN {
+                g.branches.e_r_local = Vec3::new(d_loc.x / r, d_loc.y / r, 0.0);
+            }
+            let e_r = ra * g.branches.e_r_local;
+            g.pos[0] = r;
+            g.grad[0] = Grad {
+                xa: -e_r,
+                ta: -e3a.cross(&e_r) * l,
+                xb: e_r,
+                tb: Vec3::zeros(),
+            };
+            g.pos[2] = l;
+            g.grad[2] = Grad {
+                xa: -e3a,
+                ta: e3a.cross(&d),
+                xb: e3a,
+                tb: Vec3::zeros(),
+            };
+        }
+    }
+
+    if ct.rot == Rotational::Revolute {
+        let (e2a, e3a): (Vec3, Vec3) = (ra.column(1).into(), ra.column(2).into());
+        let (e1b, e3b): (Vec3, Vec3) = (rb.column(0).into(), rb.column(2).into());
+        // α = −atan((e2a·e3b)/(e3a·e3b)) = atan2(Y, X), Y = −e2a·e3b, X = e3a·e3b
+        let y = -e2a.dot(&e3b);
+        let x = e3a.dot(&e3b);
+        let rr = x * x + y * y;
+        if !(rr > 1e-12) {
+            return Err(if rr.is_finite() {
+                Singular::RevoluteUndefined
+            } else {
+                Singular::NotFinite
+            });
+        }
+        let alpha = continue_branch(y.atan2(x), prev.alpha);
+        g.branches.alpha = alpha;
+        // δ(e_ia·e_jb) = δθ_b·(e_jb × e_ia) + δθ_a·(e_ia × e_jb)
+        let dy_tb = -e3b.cross(&e2a);
+        let dy_ta = -e2a.cross(&e3b);
+        let dx_tb = e3b.cross(&e3a);
+        let dx_ta = e3a.cross(&e3b);
+        g.pos[3] = alpha;
+        g.grad[3] = Grad {
+            xa: Vec3::zeros(),
+            ta: (dy_ta * x - dx_ta * y) / rr,
+            xb: Vec3::zeros(),
+            tb: (dy_tb * x - dx_tb * y) / rr,
+        };
+        // constraint rotations: φ2 = −e3a·e1b, φ3 = e2a·e1b (both 0 when e1b ∥ e1a)
+        g.pos[4] = -e3a.dot(&e1b);
+        g.grad[4] = Grad {
+            xa: Vec3::zeros(),
+            ta: -e3a.cross(&e1b),
+            xb: Vec3::zeros(),
+            tb: -e1b.cross(&e3a),
+        };
+        g.pos[5] = e2a.dot(&e1b);
+        g.grad[5] = Grad {
+            xa: Vec3::zeros(),
+            ta: e2a.cross(&e1b),
+            xb: Vec3::zeros(),
+            tb: e1b.cross(&e2a),
+        };
+    }
+
+    if g.pos.iter().all(|p| p.is_finite()) {
+        Ok(g)
+    } else {
+        Err(Singular::NotFinite)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::physics::math::quat_from_wxyz;
+    use std::f64::consts::PI;
+
+    const ALL: [ConnectionType; 5] = [
+        ConnectionType {
+            trans: Translational::SlidePlane,
+            rot: Rotational::Revolute,
+        },
+        ConnectionType {
+            trans: Translational::ProjectionCartesian,
+            rot: Rotational::None,
+        },
+        ConnectionType {
+            trans: Translational::None,
+            rot: Rotational::ProjectionFlexionTorsion,
+        },
+        ConnectionType {
+            trans: Translational::ProjectionCartesian,
+            rot: Rotational::ProjectionFlexionTorsion,
+        },
+        ConnectionType {
+            trans: Translational::RadialThrust,
+            rot: Rotational::None,
+        },
+    ];
+
+    /// Deterministic pseudo-random numbers in [−1, 1] (no extra crates).
+    struct Lcg(u64);
+    impl Lcg {
+        fn next(&mut self) -> f64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+        }
+        fn vec(&mut self, s: f64) -> Vec3 {
+            Vec3::new(self.next() * s, self.next() * s, self.next() * s)
+        }
+        fn node(&mut self, rot: f64) -> Node {
+            Node {
+                r: self.vec(1.0),
+                q: Quat::from_scaled_axis(self.vec(rot)),
+                v: self.vec(1.0),
+                w: self.vec(1.0),
+            }
+        }
+    }
+
+    fn moved(n: &Node, dx: Vec3, dth: Vec3) -> Node {
+        Node {
+            r: n.r + dx,
+            q: Quat::from_scaled_axis(dth) * n.q,
+            ..*n
+        }
+    }
+
+    /// Central differences of every component along 12 node motions vs the analytic gradient.
+    /// Step 1e-6 gives truncation ~1e-12·c''' and round-off ~1e-10; tolerance 1e-7 absolute.
+    #[test]
+    fn gradients_match_central_differences() {
+        let mut rng = Lcg(7);
+        for ct in ALL {
+            for _ in 0..40 {
+                let a = rng.node(1.2);
+                let b = rng.node(1.2);
+                let br = Branches::default();
+                let g = match geometry(ct, &a, &b, &br) {
+                    Ok(g) => g,
+                    Err(_) => continue,
+                };
+                let h = 1e-6;
+                for dof in 0..12 {
+                    let mut e = Vec3::zeros();
+                    e[dof % 3] = h;
+                    let (ap, am, bp, bm) = match dof / 3 {
+                        0 => (moved(&a, e, Vec3::zeros()), moved(&a, -e, Vec3::zeros()), b, b),
+                        1 => (moved(&a, Vec3::zeros(), e), moved(&a, Vec3::zeros(), -e), b, b),
+                        2 => (a, a, moved(&b, e, Vec3::zeros()), moved(&b, -e, Vec3::zeros())),
+                        _ => (a, a, moved(&b, Vec3::zeros(), e), moved(&b, Vec3::zeros(), -e)),
+                    };
+                    let gp = geometry(ct, &ap, &bp, &g.branches).expect("near a regular point");
+                    let gm = geometry(ct, &am, &bm, &g.branches).expect("near a regular point");
+                    for k in 0..6 {
+                        let fd = (gp.pos[k] - gm.pos[k]) / (2.0 * h);
+                        let gr = &g.grad[k];
+                        let an = [gr.xa, gr.ta, gr.xb, gr.tb][dof / 3][dof % 3];
+                        assert!(
+                            (fd - an).abs() < 1e-7 * (1.0 + an.abs()),
+                            "{ct:?} comp {} dof {dof}: fd {fd} analytic {an}",
+                            k + 1
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn centred_triad_properties() {
+        let mut rng = Lcg(11);
+        for _ in 0..200 {
+            let ra = *Quat::from_scaled_axis(rng.vec(2.0)).to_rotation_matrix().matrix();
+            let rb = *Quat::from_scaled_axis(rng.vec(2.0)).to_rotation_matrix().matrix();
+            let Ok(c) = centred(&ra, &rb, 0.0) else { continue };
+            let e3: Vec3 = c.triad.column(2).into();
+            let bis = (ra.column(2) + rb.column(2)).normalize();
+            assert!((e3 - bis).norm() < 1e-12, "e3 is the bisector");
+            let (a1, a2) = (c.angles.x, c.angles.y);
+            assert!((a1 * a1 + a2 * a2 - c.alpha * c.alpha).abs() < 1e-12);
+            // e3 · q = 0
+            let q = ra.column(2).cross(&rb.column(2));
+            assert!(e3.dot(&q).abs() < 1e-12);
+            // b' = Rot(e3, β)·a': frame b rotated back by α/2 equals frame a rotated on by α/2
+            // and twisted by β about e3
+            let phi = q * x_over_sin(c.alpha);
+            let a_half = exp_so3(&(phi * 0.5)) * ra;
+            let b_half = exp_so3(&(-phi * 0.5)) * rb;
+            let diff = (a_half * rot_z(c.angles.z) - b_half).norm();
+            assert!(diff < 1e-12, "torsion twist β reproduces frame b: {diff}");
+            // a ↔ b swap: same triad, angles negated
+            let s = centred(&rb, &ra, 0.0).expect("regular");
+            assert!((s.triad - c.triad).norm() < 1e-12);
+            assert!((s.angles + c.angles).norm() < 1e-12);
+            // A + B = I
+            assert!((c.a + c.b - Mat3::identity()).norm() < 1e-12);
+        }
+    }
+
+    /// The triad's own variation: δe_i = δψ × e_i with δψ = A δθ_a + B δθ_b.
+    #[test]
+    fn triad_variation_matches_differences() {
+        let mut rng = Lcg(3);
+        let h = 1e-6;
+        for _ in 0..50 {
+            let qa = Quat::from_scaled_axis(rng.vec(1.5));
+            let qb = Quat::from_scaled_axis(rng.vec(1.5));
+            let ra = *qa.to_rotation_matrix().matrix();
+            let rb = *qb.to_rotation_matrix().matrix();
+            let c = centred(&ra, &rb, 0.0).expect("regular");
+            for j in 0..6 {
+                let mut e = Vec3::zeros();
+                e[j % 3] = h;
+                let rot = |q: Quat, d: Vec3| *(Quat::from_scaled_axis(d) * q).to_rotation_matrix().matrix();
+                let (p, m) = if j < 3 {
+                    (centred(&rot(qa, e), &rb, c.angles.z), centred(&rot(qa, -e), &rb, c.angles.z))
+                } else {
+                    (centred(&ra, &rot(qb, e), c.angles.z), centred(&ra, &rot(qb, -e), c.angles.z))
+                };
+                let (p, m) = (p.expect("regular"), m.expect("regular"));
+                let de = (p.triad - m.triad) / (2.0 * h);
+                let dpsi = if j < 3 { c.a * e / h } else { c.b * e / h };
+                for i in 0..3 {
+                    let pred = dpsi.cross(&c.triad.column(i));
+                    assert!((de.column(i) - pred).norm() < 1e-7, "triad variation");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn rigid_motion_leaves_positions_unchanged() {
+        let mut rng = Lcg(5);
+        for ct in ALL {
+            for _ in 0..20 {
+                let a = rng.node(1.0);
+                let b = rng.node(1.0);
+                let Ok(g0) = geometry(ct, &a, &b, &Branches::default()) else { continue };
+                let rig = Quat::from_scaled_axis(rng.vec(2.0));
+                let shift = rng.vec(3.0);
+                let tr = |n: &Node| Node {
+                    r: rig * n.r + shift,
+                    q: rig * n.q,
+                    ..*n
+                };
+                let g1 = geometry(ct, &tr(&a), &tr(&b), &g0.branches).expect("regular");
+                for k in 0..6 {
+                    assert!((g1.pos[k] - g0.pos[k]).abs() < 1e-12, "{ct:?} comp {}", k + 1);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn torsion_through_four_pi_is_continuous() {
+        let ct = ALL[2];
+        let a = Node::default();
+        let mut br = Branches::default();
+        let n = 400;
+        for i in 0..=n {
+            let ang = 4.0 * PI * i as f64 / n as f64;
+            let b = Node {
+                q: Quat::from_scaled_axis(Vec3::new(0.0, 0.0, ang)),
+                ..a
+            };
+            let g = geometry(ct, &a, &b, &br).expect("regular");
+            assert!((g.pos[5] - ang).abs() < 1e-9, "β = {} at {ang}", g.pos[5]);
+            br = g.branches;
+        }
+    }
+
+    #[test]
+    fn folded_shafts_are_refused_not_nan() {
+        let ct = ALL[2];
+        let a = Node::default();
+        let b = Node {
+            q: Quat::from_scaled_axis(Vec3::new(PI, 0.0, 0.0)),
+            ..a
+        };
+        assert!(matches!(
+            geometry(ct, &a, &b, &Branches::default()),
+            Err(Singular::FlexionNearPi(_))
+        ));
+        let q = quat_from_wxyz(1.0, 0.0, 0.0, 0.0).expect("unit");
+        let b = Node { q, ..a };
+        assert!(geometry(ct, &a, &b, &Branches::default()).is_ok());
+    }
+
+    #[test]
+    fn radial_direction_kept_on_axis() {
+        let ct = ALL[4];
+        let a = Node::default();
+        let b = Node {
+            r: Vec3::new(0.0, 0.5, 1.0),
+            ..a
+        };
+        let g = geometry(ct, &a, &b, &Branches::default()).expect("regular");
+        assert!((g.branches.e_r_local - Vec3::y()).norm() < 1e-15);
+        let on_axis = Node {
+            r: Vec3::new(0.0, 0.0, 1.0),
+            ..a
+        };
+        let g2 = geometry(ct, &a, &on_axis, &g.branches).expect("regular");
+        assert_eq!(g2.pos[0], 0.0);
+        assert!((g2.grad[0].xb - Vec3::y()).norm() < 1e-15);
+    }
+}

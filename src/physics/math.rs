@@ -1,0 +1,122 @@
+//! Small math prelude for the kernel: static nalgebra types only (no heap).
+
+use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
+
+/// Scalar type of the kernel.
+pub type Real = f64;
+/// A 3-vector in some frame (the name of the variable says which).
+pub type Vec3 = Vector3<Real>;
+/// A 3×3 matrix; as a rotation its columns are the frame's unit axes in W.
+pub type Mat3 = Matrix3<Real>;
+/// Unit quaternion, scalar first, mapping node-local coordinates to W.
+pub type Quat = UnitQuaternion<Real>;
+
+/// Rotation matrix of the rotation vector `phi` (exponential map), smooth at 0.
+#[inline]
+pub fn exp_so3(phi: &Vec3) -> Mat3 {
+    Rotation3::from_scaled_axis(*phi).into_inner()
+}
+
+/// Rotation about the local 3-axis by `angle` (radians).
+#[inline]
+pub fn rot_z(angle: Real) -> Mat3 {
+    let (s, c) = angle.sin_cos();
+    Mat3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0)
+}
+
+/// Wraps an angle difference into (−π, π].
+#[inline]
+pub fn wrap_pi(x: Real) -> Real {
+    let two_pi = 2.0 * std::f64::consts::PI;
+    let mut y = x % two_pi;
+    if y > std::f64::consts::PI {
+        y -= two_pi;
+    } else if y <= -std::f64::consts::PI {
+        y += two_pi;
+    }
+    y
+}
+
+/// The continuous branch of an angle: the value of `raw + 2πm` nearest to `prev`.
+///
+/// Why: atan2 jumps by 2π; connector angles (β, PLANAR's α) accumulate turns.
+#[inline]
+pub fn continue_branch(raw: Real, prev: Real) -> Real {
+    prev + wrap_pi(raw - prev)
+}
+
+/// `x / sin x`, smooth through 0 (series below 1e-4, where the error is below 1e-17).
+#[inline]
+pub fn x_over_sin(x: Real) -> Real {
+    if x.abs() < 1e-4 {
+        1.0 + x * x / 6.0
+    } else {
+        x / x.sin()
+    }
+}
+
+/// `sin x / x`, smooth through 0.
+#[inline]
+pub fn sinc(x: Real) -> Real {
+    if x.abs() < 1e-4 {
+        1.0 - x * x / 6.0
+    } else {
+        x.sin() / x
+    }
+}
+
+/// `(1 − cos x) / x²`, smooth through 0.
+#[inline]
+pub fn one_minus_cos_over_sq(x: Real) -> Real {
+    if x.abs() < 1e-4 {
+        0.5 - x * x / 24.0
+    } else {
+        (1.0 - x.cos()) / (x * x)
+    }
+}
+
+/// Unit quaternion from scalar-first components, normalised.
+///
+/// Returns `None` when a component is not finite or the norm is below 1e-6
+/// (SPEC §3: such a quaternion is refused, never silently "fixed").
+pub fn quat_from_wxyz(w: Real, x: Real, y: Real, z: Real) -> Option<Quat> {
+    let q = nalgebra::Quaternion::new(w, x, y, z);
+    let n = q.norm();
+    if !n.is_finite() || n < 1e-6 {
+        return None;
+    }
+    Some(UnitQuaternion::new_unchecked(q / n))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn wrap_and_branch() {
+        let pi = std::f64::consts::PI;
+        assert!((wrap_pi(3.0 * pi) - pi).abs() < 1e-12);
+        assert!((wrap_pi(-0.5) + 0.5).abs() < 1e-15);
+        // crossing +π from below continues past π instead of jumping to −π
+        let b = continue_branch(-pi + 0.1, pi - 0.1);
+        assert!((b - (pi + 0.1)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn series_match_closed_forms_at_switch() {
+        for x in [0.99e-4, 1.01e-4] {
+            assert!((x_over_sin(x) - x / x.sin()).abs() < 1e-15);
+            assert!((sinc(x) - x.sin() / x).abs() < 1e-15);
+            assert!((one_minus_cos_over_sq(x) - 0.5).abs() < 1e-8);
+        }
+    }
+
+    #[test]
+    fn quaternion_refusal() {
+        assert!(quat_from_wxyz(0.0, 0.0, 0.0, 0.0).is_none());
+        assert!(quat_from_wxyz(f64::NAN, 0.0, 0.0, 1.0).is_none());
+        assert!(quat_from_wxyz(1e-7, 0.0, 0.0, 0.0).is_none());
+        let q = quat_from_wxyz(2.0, 0.0, 0.0, 0.0).expect("valid");
+        assert!((q.w - 1.0).abs() < 1e-15);
+    }
+}
