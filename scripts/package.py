@@ -1,0 +1,104 @@
+#!/usr/bin/env python3
+"""Package every variant into dist/<Variant>.fmu (FMI 2.0 Co-Simulation, linux64).
+
+Each FMU holds modelDescription.xml (copy of modelDescription/<Variant>.xml),
+binaries/linux64/<Variant>.so (copy of target/release/libconnector_fmu.so) and
+documentation/index.html generated from the model description.
+Usage: package.py [Variant ...]   (default: all five)
+"""
+import html
+import sys
+import xml.etree.ElementTree as ET
+import zipfile
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+VARIANTS = ["Planar", "ProjectionCartesian", "ProjectionFlexionTorsion", "Bushing", "RadialThrust"]
+LIBRARY = REPO / "target" / "release" / "libconnector_fmu.so"
+TYPES = ("Real", "Integer", "Boolean", "String", "Enumeration")
+
+CONVENTIONS = """<h2>Conventions</h2>
+<p>SI units throughout; angles in radians. Node orientations are unit quaternions, scalar first
+(<code>q.w, q.x, q.y, q.z</code>), mapping node-local coordinates to the world frame; the FMU
+normalises them. Positions, velocities and angular velocities of the nodes are given in the world
+frame. Node loads (<code>a.f, a.m, b.f, b.m</code>) are what the connector exerts <em>on</em> the
+node, in the world frame, moments about the node's own position. Connector components follow
+Abaqus numbering: 1&ndash;3 translations, 4&ndash;6 rotations (ur1 = component 4).</p>
+"""
+
+
+def documentation(root: ET.Element) -> str:
+    """Short HTML page: model name, description, table of variables, conventions."""
+    units = {t.get("name"): t[0].get("unit", "") for t in root.iterfind("TypeDefinitions/SimpleType") if len(t)}
+    rows = []
+    for sv in root.iterfind("ModelVariables/ScalarVariable"):
+        typ = next((c for c in sv if c.tag in TYPES), None)
+        tname = typ.tag if typ is not None else ""
+        start = typ.get("start", "") if typ is not None else ""
+        unit = (typ.get("unit") or units.get(typ.get("declaredType"), "")) if typ is not None else ""
+        cells = [sv.get("name"), sv.get("valueReference"), sv.get("causality", "local"),
+                 sv.get("variability", "continuous"), tname, start, unit, sv.get("description", "")]
+        rows.append("<tr>" + "".join(f"<td>{html.escape(c or '')}</td>" for c in cells) + "</tr>")
+    name = html.escape(root.get("modelName", ""))
+    head = "".join(f"<th>{h}</th>" for h in
+                   ("name", "valueReference", "causality", "variability", "type", "start", "unit", "description"))
+    return f"""<!DOCTYPE html>
+<html><head><meta charset="utf-8"><title>{name}</title>
+<style>body{{font-family:sans-serif}} table{{border-collapse:collapse}} td,th{{border:1px solid #999;padding:2px 6px}}</style>
+</head><body>
+<h1>{name}</h1>
+<p>{html.escape(root.get("description", ""))}</p>
+<p>FMI {html.escape(root.get("fmiVersion", ""))} Co-Simulation FMU, GUID <code>{html.escape(root.get("guid", ""))}</code>.</p>
+{CONVENTIONS}<h2>Variables</h2>
+<table>
+<tr>{head}</tr>
+{chr(10).join(rows)}
+</table>
+</body></html>
+"""
+
+
+def add(zf: zipfile.ZipFile, arcname: str, data: bytes, mode: int = 0o644) -> None:
+    info = zipfile.ZipInfo(arcname, date_time=(1980, 1, 1, 0, 0, 0))  # reproducible archives
+    info.compress_type = zipfile.ZIP_DEFLATED
+    info.external_attr = mode << 16
+    zf.writestr(info, data)
+
+
+def package(variant: str, out_dir: Path) -> Path:
+    xml_path = REPO / "modelDescription" / f"{variant}.xml"
+    if not xml_path.is_file():
+        sys.exit(f"error: {xml_path.relative_to(REPO)} is missing; generate it with\n"
+                 "  cargo run --release --bin gen_model_description -- modelDescription")
+    xml = xml_path.read_bytes()
+    root = ET.fromstring(xml)
+    cs = root.find("CoSimulation")
+    identifier = cs.get("modelIdentifier") if cs is not None else None
+    if identifier != variant:
+        sys.exit(f"error: {xml_path.name}: CoSimulation modelIdentifier is {identifier!r}, expected {variant!r}")
+    fmu = out_dir / f"{variant}.fmu"
+    tmp = fmu.with_suffix(".fmu.tmp")
+    with zipfile.ZipFile(tmp, "w") as zf:
+        add(zf, "modelDescription.xml", xml)
+        add(zf, f"binaries/linux64/{identifier}.so", LIBRARY.read_bytes(), 0o755)
+        add(zf, "documentation/index.html", documentation(root).encode("utf-8"))
+    tmp.replace(fmu)
+    return fmu
+
+
+def main() -> None:
+    variants = sys.argv[1:] or VARIANTS
+    unknown = sorted(set(variants) - set(VARIANTS))
+    if unknown:
+        sys.exit(f"error: unknown variant(s) {', '.join(unknown)}; known: {', '.join(VARIANTS)}")
+    if not LIBRARY.is_file():
+        sys.exit(f"error: {LIBRARY.relative_to(REPO)} is missing; run cargo build --release")
+    out_dir = REPO / "dist"
+    out_dir.mkdir(exist_ok=True)
+    for v in variants:
+        fmu = package(v, out_dir)
+        print(f"{str(fmu.relative_to(REPO)):<36} {fmu.stat().st_size:>12,d} bytes")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,367 @@
+//! The connector's constitutive response on top of its kinematics: elasticity, damping,
+//! penalty constraints, stops and PLANAR friction, assembled into component forces, node
+//! loads (virtual work) and energies.
+//!
+//! Sign convention (Abaqus): a component force F_k is the force IN the connector, so a
+//! stretched spring of positive stiffness gives F_k = k·u_mat > 0; the node loads are
+//! −Σ F_k ∇c_k, i.e. the force vector f = Σ F_k e_k acts on node a as +f and on node b as −f.
+
+use super::friction::{self, FrictionOut, FrictionParams, FrictionState};
+use super::kinematics::{geometry, Branches, ConnectionType, Node, Role, Singular};
+use super::math::{Real, Vec3};
+
+/// A penalty pair: translational and rotational stiffness and damping.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Penalty {
+    /// Translational stiffness (N/m).
+    pub k: Real,
+    /// Translational damping (N.s/m).
+    pub c: Real,
+    /// Rotational stiffness (N.m/rad).
+    pub k_rot: Real,
+    /// Rotational damping (N.m.s/rad).
+    pub c_rot: Real,
+}
+
+impl Penalty {
+    /// Stiffness and damping for component slot `k` (0..2 translational, 3..5 rotational).
+    #[inline]
+    pub fn for_slot(&self, k: usize) -> (Real, Real) {
+        if k < 3 {
+            (self.k, self.c)
+        } else {
+            (self.k_rot, self.c_rot)
+        }
+    }
+}
+
+/// Input extrapolation over a communication step (SPEC §6).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Extrapolation {
+    /// Nodes stay where the inputs put them at t.
+    Hold,
+    /// Nodes move along r + ṙ τ, q ← exp(ω τ)·q.
+    #[default]
+    Linear,
+}
+
+/// Connector parameters, per component slot k−1 for the Abaqus component k.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Params {
+    /// Linear stiffness per component (N/m, N.m/rad).
+    pub k: [Real; 6],
+    /// Linear damping per component (N.s/m, N.m.s/rad).
+    pub c: [Real; 6],
+    /// Whether the constitutive reference of a component is given (else the initial position).
+    pub ref_given: [bool; 6],
+    /// Given constitutive reference l_ref / θ_ref (m, rad).
+    pub ref_value: [Real; 6],
+    /// Lower stop on the component position (m, rad); −∞ = none.
+    pub stop_lower: [Real; 6],
+    /// Upper stop on the component position (m, rad); +∞ = none.
+    pub stop_upper: [Real; 6],
+    /// Stop penalty.
+    pub stop: Penalty,
+    /// Constraint penalty (PLANAR's SLIDE-PLANE and REVOLUTE constraints).
+    pub constraint: Penalty,
+    /// PLANAR predefined friction.
+    pub friction: FrictionParams,
+    /// Input extrapolation.
+    pub extrapolation: Extrapolation,
+    /// Largest internal substep (s); 0 = chosen from the path alone.
+    pub max_substep: Real,
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Params {
+            k: [0.0; 6],
+            c: [0.0; 6],
+            ref_given: [false; 6],
+            ref_value: [0.0; 6],
+            stop_lower: [Real::NEG_INFINITY; 6],
+            stop_upper: [Real::INFINITY; 6],
+            stop: Penalty {
+                k: 1e7,
+                c: 0.0,
+                k_rot: 1e5,
+                c_rot: 0.0,
+            },
+            constraint: Penalty {
+                k: 1e7,
+                c: 0.0,
+                k_rot: 1e5,
+                c_rot: 0.0,
+            },
+            friction: FrictionParams::default(),
+            extrapolation: Extrapolation::Linear,
+            max_substep: 0.0,
+        }
+    }
+}
+
+impl Params {
+    /// Parameter values a connector cannot use, named as in the model description.
+    pub fn check(&self, roles: &[Role; 6]) -> Result<(), &'static str> {
+        const K: [&str; 6] = [
+            "elasticity.k1",
+            "elasticity.k2",
+            "elasticity.k3",
+            "elasticity.k4",
+            "elasticity.k5",
+            "elasticity.k6",
+        ];
+        const C: [&str; 6] = [
+            "damping.c1",
+            "damping.c2",
+            "damping.c3",
+            "damping.c4",
+            "damping.c5",
+            "damping.c6",
+        ];
+        const S: [&str; 6] = [
+            "stop.lower1 > stop.upper1",
+            "stop.lower2 > stop.upper2",
+            "stop.lower3 > stop.upper3",
+            "stop.lower4 > stop.upper4",
+            "stop.lower5 > stop.upper5",
+            "stop.lower6 > stop.upper6",
+        ];
+        for i in 0..6 {
+            if roles[i] != Role::Available {
+                continue;
+            }
+            if self.k[i] < 0.0 {
+                return Err(K[i]);
+            }
+            if self.c[i] < 0.0 {
+                return Err(C[i]);
+            }
+            if self.stop_lower[i] > self.stop_upper[i] {
+                return Err(S[i]);
+            }
+        }
+        let pen = [
+            (self.stop.k, "stop.stiffness"),
+            (self.stop.c, "stop.damping"),
+            (self.stop.k_rot, "stop.rotStiffness"),
+            (self.stop.c_rot, "stop.rotDamping"),
+            (self.constraint.k, "constraint.stiffness"),
+            (self.constraint.c, "constraint.damping"),
+            (self.constraint.k_rot, "constraint.rotStiffness"),
+            (self.constraint.c_rot, "constraint.rotDamping"),
+            (self.max_substep, "cosim.maxSubstep"),
+        ];
+        for (v, name) in pen {
+            if v < 0.0 {
+                return Err(name);
+            }
+        }
+        self.friction.check()
+    }
+
+    /// Whether any stop is set on an available component.
+    pub fn has_stops(&self, roles: &[Role; 6]) -> bool {
+        (0..6).any(|i| {
+            roles[i] == Role::Available
+                && (self.stop_lower[i] > Real::NEG_INFINITY || self.stop_upper[i] < Real::INFINITY)
+        })
+    }
+}
+
+/// Energy accounts (J).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Energy {
+    /// Stored in springs, penalties, stops and stick springs, at the current configuration.
+    pub stored: Real,
+    /// Dissipated by dampers (components and constraint penalty) since initialization.
+    pub damping: Real,
+    /// Dissipated by friction since initialization.
+    pub friction: Real,
+    /// Dissipated by stops since initialization.
+    pub stops: Real,
+}
+
+/// State that influences the future: committed at the end of each accepted substep.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct State {
+    /// Angle branches and the RADIAL-THRUST direction.
+    pub branches: Branches,
+    /// Component positions at the end of initialization (CU = CP − c0; SLIDE-PLANE x0).
+    pub c0: [Real; 6],
+    /// Stop status per component: −1 lower, 0 free, +1 upper.
+    pub stop_status: [i8; 6],
+    /// PLANAR friction state.
+    pub friction: FrictionState,
+    /// Dissipated energy accumulators (`stored` unused here).
+    pub dissipated: Energy,
+    /// Dissipation power (W) at the end of the last substep: damping, stops.
+    pub power: [Real; 2],
+}
+
+impl Default for State {
+    fn default() -> Self {
+        State {
+            branches: Branches::default(),
+            c0: [0.0; 6],
+            stop_status: [0; 6],
+            friction: FrictionState::default(),
+            dissipated: Energy::default(),
+            power: [0.0; 2],
+        }
+    }
+}
+
+/// Everything the connector reports at one instant (SPEC §5), per component slot.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Outputs {
+    /// CP / CPR: component position.
+    pub cp: [Real; 6],
+    /// CU / CUR: motion from the initial state.
+    pub cu: [Real; 6],
+    /// CV / CVR: relative velocity.
+    pub cv: [Real; 6],
+    /// CEF / CEM: elastic force.
+    pub cef: [Real; 6],
+    /// CVF / CVM: viscous force.
+    pub cvf: [Real; 6],
+    /// CSF / CSM: friction force.
+    pub csf: [Real; 6],
+    /// CRF / CRM: constraint and stop reactions.
+    pub crf: [Real; 6],
+    /// CTF / CTM: total.
+    pub ctf: [Real; 6],
+    /// CSLST: stop status.
+    pub cslst: [i32; 6],
+    /// Force on node a (W).
+    pub fa: Vec3,
+    /// Moment on node a about x_a (W).
+    pub ma: Vec3,
+    /// Force on node b (W).
+    pub fb: Vec3,
+    /// Moment on node b about x_b (W).
+    pub mb: Vec3,
+    /// PLANAR friction outputs.
+    pub friction: FrictionOut,
+    /// Energy accounts.
+    pub energy: Energy,
+}
+
+/// Outputs at nodes (a, b) given the committed state, and the state these imply
+/// (branches, stop status, friction return map) for the caller to commit.
+///
+/// Dissipated energies in the result are the committed ones; `advance` accumulates them.
+pub fn evaluate(
+    ct: ConnectionType,
+    p: &Params,
+    st: &State,
+    a: &Node,
+    b: &Node,
+) -> Result<(Outputs, State), Singular> {
+    let roles = ct.roles();
+    let g = geometry(ct, a, b, &st.branches)?;
+    let mut next = *st;
+    next.branches = g.branches;
+    let mut o = Outputs::default();
+    let mut stored = 0.0;
+    let mut p_damp = 0.0;
+    let mut p_stop = 0.0;
+
+    for k in 0..6 {
+        if roles[k] == Role::Absent {
+            continue;
+        }
+        let c = g.pos[k];
+        let v = g.grad[k].rate(a, b);
+        o.cp[k] = c;
+        o.cu[k] = c - st.c0[k];
+        o.cv[k] = v;
+        match roles[k] {
+            Role::Constrained => {
+                // penalty on the constraint: SLIDE-PLANE x = x0, REVOLUTE φ2 = φ3 = 0
+                let target = if k == 0 { st.c0[0] } else { 0.0 };
+                let (kp, cp) = p.constraint.for_slot(k);
+                let gap = c - target;
+                o.crf[k] = kp * gap + cp * v;
+                stored += 0.5 * kp * gap * gap;
+                p_damp += cp * v * v;
+            }
+            Role::Available => {
+                let reference = if p.ref_given[k] { p.ref_value[k] } else { st.c0[k] };
+                let u_mat = c - reference;
+                o.cef[k] = p.k[k] * u_mat;
+                o.cvf[k] = p.c[k] * v;
+                stored += 0.5 * p.k[k] * u_mat * u_mat;
+                p_damp += p.c[k] * v * v;
+                // stops act on positions, never pull
+                let (ks, cs) = p.stop.for_slot(k);
+                let (force, status, energy, power) =
+                    stop_force(c, v, p.stop_lower[k], p.stop_upper[k], ks, cs);
+                o.crf[k] += force;
+                o.cslst[k] = status as i32;
+                next.stop_status[k] = status;
+                stored += energy;
+                p_stop += power;
+            }
+            Role::Absent => {}
+        }
+    }
+
+    // PLANAR friction: normal force and moment from the constraint reactions f1, m2, m3
+    if ct.rot == super::kinematics::Rotational::Revolute && p.friction.enabled() {
+        let fr = friction::update(
+            &p.friction,
+            &st.friction,
+            [o.crf[0], o.crf[4], o.crf[5]],
+            [o.cp[1], o.cp[2], o.cp[3]],
+            [o.cv[1], o.cv[2], o.cv[3]],
+        );
+        o.csf[1] = fr.force[0];
+        o.csf[2] = fr.force[1];
+        o.csf[3] = fr.force[2];
+        o.friction = fr.out;
+        stored += fr.stored;
+        next.friction = fr.state;
+    }
+
+    for k in 0..6 {
+        o.ctf[k] = o.cef[k] + o.cvf[k] + o.csf[k] + o.crf[k];
+    }
+    // node loads by virtual work: −Σ F_k ∇c_k
+    for k in 0..6 {
+        let f = o.ctf[k];
+        if f != 0.0 {
+            let gr = &g.grad[k];
+            o.fa -= gr.xa * f;
+            o.ma -= gr.ta * f;
+            o.fb -= gr.xb * f;
+            o.mb -= gr.tb * f;
+        }
+    }
+    next.power = [p_damp, p_stop];
+    o.energy = Energy {
+        stored,
+        friction: next.friction.dissipated,
+        ..st.dissipated
+    };
+    Ok((o, next))
+}
+
+/// One-sided stop penalty on position `c` with rate `v`: (force, status, energy, power).
+///
+/// The force never pulls: it is clipped at zero when the damper would make it adhesive
+/// (SPEC §5). `power` is the dissipation rate (F − k·p)·ṗ ≥ 0, where p is the penetration.
+#[inline]
+fn stop_force(c: Real, v: Real, lower: Real, upper: Real, k: Real, d: Real) -> (Real, i8, Real, Real) {
+    if c > upper {
+        let pen = c - upper;
+        let f = (k * pen + d * v).max(0.0);
+        (f, 1, 0.5 * k * pen * pen, (f - k * pen) * v)
+    } else if c < lower {
+        let pen = lower - c;
+        let f = (k * pen - d * v).max(0.0);
+        (-f, -1, 0.5 * k * pen * pen, (f - k * pen) * (-v))
+    } else {
+        (0.0, 0, 0.0, 0.0)
+    }
+}

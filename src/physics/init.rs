@@ -1,0 +1,24 @@
+//! The state at the end of initialization.
+
+use super::connector::{evaluate, Params, State};
+use super::kinematics::{geometry, Branches, ConnectionType, Node, Singular};
+
+/// The initial state for nodes (a, b): component positions become the initial values
+/// (CU = 0, SLIDE-PLANE x0), angle branches start on their principal values, friction starts
+/// with zero elastic slip, and stop status and dissipation powers follow the configuration.
+pub fn initial_state(ct: ConnectionType, p: &Params, a: &Node, b: &Node) -> Result<State, Singular> {
+    let g = geometry(ct, a, b, &Branches::default())?;
+    let mut st = State {
+        branches: g.branches,
+        c0: g.pos,
+        ..State::default()
+    };
+    st.friction.slip_plastic = [g.pos[1], g.pos[2]];
+    st.friction.slip_plastic_r1 = g.pos[3];
+    let (_, next) = evaluate(ct, p, &st, a, b)?;
+    st.stop_status = next.stop_status;
+    st.friction.status = next.friction.status;
+    st.friction.status_r1 = next.friction.status_r1;
+    st.power = next.power;
+    Ok(st)
+}

@@ -1,0 +1,158 @@
+//! Advancing the connector over a communication step [t, t + h] (SPEC §6): the nodes move
+//! along the input extrapolation, the path-dependent state (friction, stops, angle branches)
+//! follows in internal substeps, and the dissipated energies are integrated.
+
+use super::connector::{evaluate, Outputs, Params, State};
+use super::kinematics::{ConnectionType, Node, Singular};
+use super::math::{Quat, Real, Vec3};
+
+/// Rates along which a node is extrapolated over a step (all in W).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rates {
+    /// ṙ (m/s): the velocity input, or the position input derivatives when given.
+    pub dr: Vec3,
+    /// Angular rate of the orientation (rad/s): the angular-velocity input, or the one
+    /// implied by the quaternion input derivatives.
+    pub dth: Vec3,
+    /// v̇ (m/s²), from input derivatives; zero otherwise.
+    pub dv: Vec3,
+    /// ω̇ (rad/s²), from input derivatives; zero otherwise.
+    pub dw: Vec3,
+}
+
+impl Rates {
+    /// No motion over the step (zero-order hold).
+    pub const HOLD: Rates = Rates {
+        dr: Vec3::new(0.0, 0.0, 0.0),
+        dth: Vec3::new(0.0, 0.0, 0.0),
+        dv: Vec3::new(0.0, 0.0, 0.0),
+        dw: Vec3::new(0.0, 0.0, 0.0),
+    };
+
+    /// First-order extrapolation from the node's own velocities.
+    pub fn from_velocities(n: &Node) -> Rates {
+        Rates {
+            dr: n.v,
+            dth: n.w,
+            ..Rates::HOLD
+        }
+    }
+}
+
+/// The node after time τ along its extrapolation (rotations through the exponential map).
+#[inline]
+pub fn extrapolate(n: &Node, rate: &Rates, tau: Real) -> Node {
+    Node {
+        r: n.r + rate.dr * tau,
+        q: Quat::from_scaled_axis(rate.dth * tau) * n.q,
+        v: n.v + rate.dv * tau,
+        w: n.w + rate.dw * tau,
+    }
+}
+
+/// Largest relative rotation per substep (rad): keeps angle branches and turning slip paths
+/// resolved.
+pub const MAX_ROTATION_PER_SUBSTEP: Real = 0.25;
+/// Most substeps one communication step may take.
+pub const MAX_SUBSTEPS: u32 = 100_000;
+
+/// Why a step was not taken.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum StepError {
+    /// The kinematics met a singular configuration at τ (s) into the step.
+    Singular(Singular, Real),
+    /// A non-finite output at τ (s) into the step.
+    NotFinite(Real),
+    /// The step would need more than `MAX_SUBSTEPS` substeps.
+    TooManySubsteps(Real),
+}
+
+/// Number of substeps for a step of length `h`.
+pub fn substeps(p: &Params, ra: &Rates, rb: &Rates, h: Real) -> Result<u32, StepError> {
+    let rot = (ra.dth.norm() + rb.dth.norm()) * h / MAX_ROTATION_PER_SUBSTEP;
+    let time = if p.max_substep > 0.0 {
+        h / p.max_substep
+    } else {
+        1.0
+    };
+    let n = rot.max(time).ceil().max(1.0);
+    if !(n <= MAX_SUBSTEPS as Real) {
+        return Err(StepError::TooManySubsteps(n));
+    }
+    Ok(n as u32)
+}
+
+/// Result of an accepted step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Advanced {
+    /// Outputs at t + h.
+    pub outputs: Outputs,
+    /// State at t + h.
+    pub state: State,
+    /// Node a at t + h (extrapolated).
+    pub a: Node,
+    /// Node b at t + h (extrapolated).
+    pub b: Node,
+}
+
+/// Advances over [t, t + h] from the committed state `st` and the nodes at t.
+/// On error nothing is committed: the caller keeps `st`.
+pub fn advance(
+    ct: ConnectionType,
+    p: &Params,
+    st: &State,
+    a0: &Node,
+    b0: &Node,
+    ra: &Rates,
+    rb: &Rates,
+    h: Real,
+) -> Result<Advanced, StepError> {
+    let n = substeps(p, ra, rb, h)?;
+    let dt = h / n as Real;
+    let mut s = *st;
+    let mut last = None;
+    for j in 1..=n {
+        // time as t0 + j·dt, never accumulated
+        let tau = h * j as Real / n as Real;
+        let a = extrapolate(a0, ra, tau);
+        let b = extrapolate(b0, rb, tau);
+        let (mut o, mut next) =
+            evaluate(ct, p, &s, &a, &b).map_err(|e| StepError::Singular(e, tau))?;
+        // trapezoidal rule on the dissipation powers
+        next.dissipated.damping += 0.5 * (s.power[0] + next.power[0]) * dt;
+        next.dissipated.stops += 0.5 * (s.power[1] + next.power[1]) * dt;
+        o.energy.damping = next.dissipated.damping;
+        o.energy.stops = next.dissipated.stops;
+        if !outputs_finite(&o) {
+            return Err(StepError::NotFinite(tau));
+        }
+        s = next;
+        last = Some((o, a, b));
+    }
+    match last {
+        Some((outputs, a, b)) => Ok(Advanced {
+            outputs,
+            state: s,
+            a,
+            b,
+        }),
+        None => Err(StepError::NotFinite(0.0)),
+    }
+}
+
+/// Whether every Real output is finite (NaN never reaches an output).
+pub fn outputs_finite(o: &Outputs) -> bool {
+    let arrays = [o.cp, o.cu, o.cv, o.cef, o.cvf, o.csf, o.crf, o.ctf];
+    let f = &o.friction;
+    let e = &o.energy;
+    arrays.iter().all(|a| a.iter().all(|x| x.is_finite()))
+        && [o.fa, o.ma, o.fb, o.mb]
+            .iter()
+            .all(|v| v.iter().all(|x| x.is_finite()))
+        && [f.cnf, f.cnm1, f.csfc, f.csmc1, f.slip, f.slip_r1]
+            .iter()
+            .all(|x| x.is_finite())
+        && [e.stored, e.damping, e.friction, e.stops]
+            .iter()
+            .all(|x| x.is_finite())
+}
