@@ -418,33 +418,13 @@ impl ModelInstance {
 
     /// The nodes from the current inputs (quaternions normalised; a bad one is refused).
     fn nodes(&self) -> FmuResult<(Node, Node)> {
-        let mut out = [Node::default(); 2];
-        for (n, node) in out.iter_mut().enumerate() {
-            let u = &self.s.inputs[n];
-            let q = quat_from_wxyz(u[3], u[4], u[5], u[6]).ok_or_else(|| {
-                let nm = ["a", "b"][n];
-                FmuError::error(format!(
-                    "orientation {nm}.q = ({}, {}, {}, {}) is not a rotation: its norm is below 1e-6 or not finite",
-                    u[3], u[4], u[5], u[6]
-                ))
-            })?;
-            *node = Node {
-                r: Vec3::new(u[0], u[1], u[2]),
-                q,
-                v: Vec3::new(u[7], u[8], u[9]),
-                w: Vec3::new(u[10], u[11], u[12]),
-            };
-        }
-        Ok((out[0], out[1]))
+        nodes_of(&self.s.inputs)
     }
 
-    /// Outputs at the current inputs and committed state (in initialization: the state the
-    /// instance would start from).
-    fn outputs(&mut self, fname: &str) -> FmuResult<Outputs> {
-        if let Some(o) = self.cache {
-            return Ok(o);
-        }
-        let (a, b) = self.nodes().map_err(|e| FmuError::error(format!("{fname}: {}", e.message)))?;
+    /// Outputs at the given inputs with the committed state (in initialization: with the
+    /// state the instance would start from at those inputs).
+    fn evaluate_at(&self, inputs: &[NodeInputs; 2], fname: &str) -> FmuResult<Outputs> {
+        let (a, b) = nodes_of(inputs).map_err(|e| FmuError::error(format!("{fname}: {}", e.message)))?;
         let st = if self.s.mode == Mode::InitializationMode {
             initial_state(self.ct, &self.s.params, &a, &b).map_err(|e| singular_error(fname, e))?
         } else {
@@ -456,6 +436,15 @@ impl ModelInstance {
                 "{fname}: the outputs at these inputs are not finite"
             )));
         }
+        Ok(o)
+    }
+
+    /// Outputs at the current inputs and committed state, cached until something changes.
+    fn outputs(&mut self, fname: &str) -> FmuResult<Outputs> {
+        if let Some(o) = self.cache {
+            return Ok(o);
+        }
+        let o = self.evaluate_at(&self.s.inputs, fname)?;
         self.cache = Some(o);
         Ok(o)
     }
@@ -503,12 +492,7 @@ impl ModelInstance {
                 (Field::StopStatus(k), Some(o)) => o.cslst[k as usize],
                 (Field::Friction(FrictionField::Status), Some(o)) => o.friction.status as i32,
                 (Field::Friction(FrictionField::StatusR1), Some(o)) => o.friction.status_r1 as i32,
-                (Field::Param(ScalarPar::Coupling), _) => self.s.params.friction.coupling,
-                (Field::Param(ScalarPar::Extrapolation), _) => match self.s.params.extrapolation {
-                    Extrapolation::Hold => 0,
-                    Extrapolation::Linear => 1,
-                },
-                _ => 0,
+                (f, _) => read_int_param(&self.s.params, f),
             };
         }
         Ok(())
@@ -694,6 +678,28 @@ impl ModelInstance {
     }
 }
 
+/// The nodes from raw inputs (quaternions normalised; a bad one is refused).
+fn nodes_of(inputs: &[NodeInputs; 2]) -> FmuResult<(Node, Node)> {
+    let mut out = [Node::default(); 2];
+    for (n, node) in out.iter_mut().enumerate() {
+        let u = &inputs[n];
+            let q = quat_from_wxyz(u[3], u[4], u[5], u[6]).ok_or_else(|| {
+                let nm = ["a", "b"][n];
+                FmuError::error(format!(
+                    "orientation {nm}.q = ({}, {}, {}, {}) is not a rotation: its norm is below 1e-6 or not finite",
+                    u[3], u[4], u[5], u[6]
+                ))
+            })?;
+            *node = Node {
+                r: Vec3::new(u[0], u[1], u[2]),
+                q,
+                v: Vec3::new(u[7], u[8], u[9]),
+                w: Vec3::new(u[10], u[11], u[12]),
+            };
+        }
+        Ok((out[0], out[1]))
+    }
+
 /// Writes an extrapolated node back into the inputs.
 fn write_node(u: &mut NodeInputs, n: &Node) {
     let q = n.q.quaternion();
@@ -719,7 +725,7 @@ fn singular_error(fname: &str, s: Singular) -> FmuError {
 }
 
 /// Writes a Real value into parameters or inputs after checking it.
-fn write_real(p: &mut Params, u: &mut [NodeInputs; 2], f: Field, x: Real) -> Result<(), &'static str> {
+pub(crate) fn write_real(p: &mut Params, u: &mut [NodeInputs; 2], f: Field, x: Real) -> Result<(), &'static str> {
     let finite = |x: Real| if x.is_finite() { Ok(x) } else { Err("is not finite") };
     let nonneg = |x: Real| {
         if !x.is_finite() {
@@ -796,7 +802,7 @@ fn write_real(p: &mut Params, u: &mut [NodeInputs; 2], f: Field, x: Real) -> Res
 }
 
 /// Writes an Integer parameter after checking it.
-fn write_int(p: &mut Params, f: Field, x: i32) -> Result<(), &'static str> {
+pub(crate) fn write_int(p: &mut Params, f: Field, x: i32) -> Result<(), &'static str> {
     match f {
         Field::Param(ScalarPar::Coupling) => match x {
             0 | 1 => p.friction.coupling = x,
@@ -814,7 +820,7 @@ fn write_int(p: &mut Params, f: Field, x: i32) -> Result<(), &'static str> {
     Ok(())
 }
 
-fn read_real_param(p: &Params, f: Field) -> Real {
+pub(crate) fn read_real_param(p: &Params, f: Field) -> Real {
     use ScalarPar::*;
     let fr = &p.friction;
     match f {
@@ -892,8 +898,13 @@ fn read_output(o: &Outputs, f: Field) -> Real {
 }
 
 impl ModelInstance {
-    /// fmi2GetDirectionalDerivative: ∂(unknowns)/∂(knowns)·dknown at the current inputs and
-    /// committed state.
+    /// fmi2GetDirectionalDerivative: J·dknown, J = ∂(unknowns)/∂(knowns) at the current
+    /// inputs and committed state: the connector's consistent tangent (stick: stick stiffness;
+    /// slip: tangent of the return map; active stops and penalties included).
+    ///
+    /// Computed as the central difference of the kernel's output function along dknown,
+    /// (y(u + εδ) − y(u − εδ))/(2ε), ε = 1e-6·max(1, |u|)/|δ|: truncation O(ε²) relative,
+    /// exact up to round-off for a linear connector. The committed state is not touched.
     pub fn directional_derivative(
         &mut self,
         unknowns: &[u32],
@@ -901,19 +912,74 @@ impl ModelInstance {
         dknown: &[Real],
         out: &mut [Real],
     ) -> FmuResult<()> {
-        let _ = (unknowns, knowns, dknown, out);
-        Err(FmuError::error("fmi2GetDirectionalDerivative: PLACEHOLDER"))
+        const F: &str = "fmi2GetDirectionalDerivative";
+        self.allowed(Call::Get, F)?;
+        for &vr in unknowns {
+            let v = self.var(vr, "Real", F)?;
+            if v.causality != Causality::Output || v.variability != Variability::Continuous {
+                return Err(FmuError::error(format!(
+                    "{F}: unknown {} is not a continuous Real output",
+                    v.name
+                )));
+            }
+        }
+        let mut scale: Real = 1.0;
+        let mut dmax: Real = 0.0;
+        for (&vr, &d) in knowns.iter().zip(dknown) {
+            let v = self.var(vr, "Real", F)?;
+            let Field::Input { node, idx } = v.field else {
+                return Err(FmuError::error(format!("{F}: known {} is not an input", v.name)));
+            };
+            if !d.is_finite() {
+                return Err(FmuError::error(format!("{F}: seed for {} is not finite", v.name)));
+            }
+            scale = scale.max(self.s.inputs[node as usize][idx as usize].abs());
+            dmax = dmax.max(d.abs());
+        }
+        if dmax == 0.0 {
+            out.iter_mut().for_each(|x| *x = 0.0);
+            return Ok(());
+        }
+        let eps = 1e-6 * scale / dmax;
+        let shifted = |sign: Real| {
+            let mut u = self.s.inputs;
+            for (&vr, &d) in knowns.iter().zip(dknown) {
+                if let Some(Field::Input { node, idx }) = self.table.get(vr).map(|v| v.field) {
+                    u[node as usize][idx as usize] += sign * eps * d;
+                }
+            }
+            u
+        };
+        let plus = self.evaluate_at(&shifted(1.0), F)?;
+        let minus = self.evaluate_at(&shifted(-1.0), F)?;
+        for (&vr, slot) in unknowns.iter().zip(out.iter_mut()) {
+            let f = self.var(vr, "Real", F)?.field;
+            *slot = (read_output(&plus, f) - read_output(&minus, f)) / (2.0 * eps);
+        }
+        Ok(())
     }
 
     /// fmi2DeSerializeFMUstate: validates bytes and returns the snapshot they hold.
     pub fn deserialize(&self, bytes: &[u8]) -> FmuResult<Snapshot> {
-        let _ = bytes;
-        Err(FmuError::error("fmi2DeSerializeFMUstate: PLACEHOLDER"))
+        self.allowed(Call::Lifecycle, "fmi2DeSerializeFMUstate")?;
+        crate::state_bytes::decode(self.table, bytes)
+            .map_err(|why| FmuError::error(format!("fmi2DeSerializeFMUstate: {why}; state not restored")))
     }
 }
 
 /// fmi2SerializeFMUstate: the snapshot as versioned bytes.
-pub fn serialize(s: &Snapshot) -> Vec<u8> {
-    let _ = s;
-    Vec::new()
+pub fn serialize(table: &Table, s: &Snapshot) -> Vec<u8> {
+    crate::state_bytes::encode(table, s)
+}
+
+/// An Integer parameter's value.
+pub(crate) fn read_int_param(p: &Params, f: Field) -> i32 {
+    match f {
+        Field::Param(ScalarPar::Coupling) => p.friction.coupling,
+        Field::Param(ScalarPar::Extrapolation) => match p.extrapolation {
+            Extrapolation::Hold => 0,
+            Extrapolation::Linear => 1,
+        },
+        _ => 0,
+    }
 }

@@ -1,0 +1,17 @@
+//! Writes `modelDescription/<Variant>.xml` for every variant from the variable tables.
+//! Usage: `cargo run --bin gen_model_description -- [folder]` (default `modelDescription`).
+
+use connector_fmu::model_description::model_description;
+use connector_fmu::variables::VARIANTS;
+use std::path::PathBuf;
+
+fn main() -> std::io::Result<()> {
+    let dir = PathBuf::from(std::env::args().nth(1).unwrap_or_else(|| "modelDescription".into()));
+    std::fs::create_dir_all(&dir)?;
+    for v in VARIANTS {
+        let path = dir.join(format!("{}.xml", v.model_identifier));
+        std::fs::write(&path, model_description(v.variant))?;
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}

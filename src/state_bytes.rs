@@ -1,0 +1,300 @@
+//! The serialized FMU state: a versioned, checksummed, validated byte format.
+//!
+//! Layout (little endian): magic `CFMU`, format version (u16), model identifier length (u8)
+//! and bytes, mode (u8), time and start time (f64), the variant's parameters in table order
+//! (Real f64, Integer i32, Boolean u8), its node inputs in table order (f64), the input
+//! derivatives that are set (u32 mask over the 26 node inputs, then their f64 values), the
+//! connector state, and an FNV-1a 64 checksum of everything before it. Parameters and inputs
+//! are written back through the same checks as fmi2Set*, so a decoded state is one that the
+//! setters could have produced.
+
+use crate::instance::{read_int_param, read_real_param, write_int, write_real, Mode, NodeInputs, Snapshot};
+use crate::physics::connector::{Energy, State};
+use crate::physics::friction::{FrictionState, Status};
+use crate::physics::kinematics::Branches;
+use crate::physics::math::Vec3;
+use crate::variables::{Causality, CompPar, Field, Start, Table};
+
+const MAGIC: &[u8; 4] = b"CFMU";
+/// Version of the byte format; bump on any layout change.
+pub const VERSION: u16 = 1;
+
+struct W(Vec<u8>);
+
+impl W {
+    fn f(&mut self, x: f64) {
+        self.0.extend_from_slice(&x.to_le_bytes());
+    }
+    fn fs(&mut self, xs: &[f64]) {
+        xs.iter().for_each(|&x| self.f(x));
+    }
+    fn b(&mut self, x: u8) {
+        self.0.push(x);
+    }
+}
+
+struct R<'a> {
+    bytes: &'a [u8],
+    at: usize,
+}
+
+impl<'a> R<'a> {
+    fn take(&mut self, n: usize) -> Result<&'a [u8], String> {
+        let end = self.at.checked_add(n).filter(|&e| e <= self.bytes.len());
+        match end {
+            Some(e) => {
+                let s = &self.bytes[self.at..e];
+                self.at = e;
+                Ok(s)
+            }
+            None => Err(format!("truncated at byte {} of {}", self.at, self.bytes.len())),
+        }
+    }
+    fn f(&mut self, what: &str) -> Result<f64, String> {
+        let mut a = [0u8; 8];
+        a.copy_from_slice(self.take(8)?);
+        let x = f64::from_le_bytes(a);
+        if x.is_finite() {
+            Ok(x)
+        } else {
+            Err(format!("{what} is not finite"))
+        }
+    }
+    fn f_any(&mut self) -> Result<f64, String> {
+        let mut a = [0u8; 8];
+        a.copy_from_slice(self.take(8)?);
+        Ok(f64::from_le_bytes(a))
+    }
+    fn fs<const N: usize>(&mut self, what: &str) -> Result<[f64; N], String> {
+        let mut out = [0.0; N];
+        for x in out.iter_mut() {
+            *x = self.f(what)?;
+        }
+        Ok(out)
+    }
+    fn b(&mut self) -> Result<u8, String> {
+        Ok(self.take(1)?[0])
+    }
+    fn u32(&mut self) -> Result<u32, String> {
+        let mut a = [0u8; 4];
+        a.copy_from_slice(self.take(4)?);
+        Ok(u32::from_le_bytes(a))
+    }
+}
+
+fn fnv(bytes: &[u8]) -> u64 {
+    bytes
+        .iter()
+        .fold(0xcbf2_9ce4_8422_2325u64, |h, &b| (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3))
+}
+
+const MODES: [Mode; 7] = [
+    Mode::Instantiated,
+    Mode::InitializationMode,
+    Mode::StepComplete,
+    Mode::StepFailed,
+    Mode::StepCanceled,
+    Mode::Terminated,
+    Mode::Error,
+];
+
+/// The snapshot as bytes.
+pub fn encode(t: &Table, s: &Snapshot) -> Vec<u8> {
+    let mut w = W(Vec::with_capacity(768));
+    w.0.extend_from_slice(MAGIC);
+    w.0.extend_from_slice(&VERSION.to_le_bytes());
+    let id = t.spec.model_identifier.as_bytes();
+    w.b(id.len() as u8);
+    w.0.extend_from_slice(id);
+    w.b(MODES.iter().position(|&m| m == s.mode).unwrap_or(0) as u8);
+    w.fs(&[s.time, s.start_time]);
+    for v in t.vars.iter().filter(|v| v.causality == Causality::Parameter) {
+        match v.start {
+            Start::Real(_) => w.f(read_real_param(&s.params, v.field)),
+            Start::Integer(_) => w.0.extend_from_slice(&read_int_param(&s.params, v.field).to_le_bytes()),
+            Start::Boolean(_) => match v.field {
+                Field::CompParam { k, .. } => w.b(s.params.ref_given[k as usize] as u8),
+                _ => w.b(0),
+            },
+        }
+    }
+    for v in &t.vars {
+        if let Field::Input { node, idx } = v.field {
+            w.f(s.inputs[node as usize][idx as usize]);
+        }
+    }
+    let mut mask = 0u32;
+    for n in 0..2 {
+        for i in 0..13 {
+            if s.input_der_set[n][i] {
+                mask |= 1 << (13 * n + i);
+            }
+        }
+    }
+    w.0.extend_from_slice(&mask.to_le_bytes());
+    for n in 0..2 {
+        for i in 0..13 {
+            if s.input_der_set[n][i] {
+                w.f(s.input_der[n][i]);
+            }
+        }
+    }
+    let st = &s.state;
+    let br = &st.branches;
+    w.fs(&[br.beta, br.alpha, br.e_r_local.x, br.e_r_local.y, br.e_r_local.z]);
+    w.fs(&st.c0);
+    st.stop_status.iter().for_each(|&x| w.b(x as u8));
+    let fr = &st.friction;
+    w.fs(&[
+        fr.slip_plastic[0],
+        fr.slip_plastic[1],
+        fr.slip_plastic_r1,
+        fr.slip_acc,
+        fr.slip_acc_r1,
+        fr.dissipated,
+    ]);
+    w.b(fr.status as u8);
+    w.b(fr.status_r1 as u8);
+    let e = &st.dissipated;
+    w.fs(&[e.damping, e.stops, st.power[0], st.power[1]]);
+    let sum = fnv(&w.0);
+    w.0.extend_from_slice(&sum.to_le_bytes());
+    w.0
+}
+
+fn status(x: u8) -> Result<Status, String> {
+    match x {
+        0 => Ok(Status::NoNormal),
+        1 => Ok(Status::Stick),
+        2 => Ok(Status::Slip),
+        _ => Err(format!("friction status {x} is not 0, 1 or 2")),
+    }
+}
+
+/// Decodes and validates bytes written by `encode` for the same variant.
+pub fn decode(t: &Table, bytes: &[u8]) -> Result<Snapshot, String> {
+    if bytes.len() < 8 + MAGIC.len() {
+        return Err(format!("{} bytes are too few for a serialized state", bytes.len()));
+    }
+    let (body, sum) = bytes.split_at(bytes.len() - 8);
+    if bytes[..4] != MAGIC[..] {
+        return Err("the bytes are not a state of this FMU (bad magic)".into());
+    }
+    let mut sum_b = [0u8; 8];
+    sum_b.copy_from_slice(sum);
+    if fnv(body) != u64::from_le_bytes(sum_b) {
+        return Err("checksum mismatch: the bytes are corrupt".into());
+    }
+    let mut r = R { bytes: body, at: 4 };
+    let mut v = [0u8; 2];
+    v.copy_from_slice(r.take(2)?);
+    let version = u16::from_le_bytes(v);
+    if version != VERSION {
+        return Err(format!("format version {version} is not the supported version {VERSION}"));
+    }
+    let n = r.b()? as usize;
+    let id = r.take(n)?;
+    if id != t.spec.model_identifier.as_bytes() {
+        return Err(format!(
+            "the state belongs to model {:?}, not {}",
+            String::from_utf8_lossy(id),
+            t.spec.model_identifier
+        ));
+    }
+    let mode = *MODES.get(r.b()? as usize).ok_or("unknown mode")?;
+    let time = r.f("time")?;
+    let start_time = r.f("start time")?;
+    let mut params = crate::physics::connector::Params::default();
+    let mut inputs: [NodeInputs; 2] = [[0.0; 13]; 2];
+    inputs[0][3] = 1.0;
+    inputs[1][3] = 1.0;
+    for v in t.vars.iter().filter(|v| v.causality == Causality::Parameter) {
+        let bad = |why: &str| format!("parameter {} {why}", v.name);
+        match v.start {
+            Start::Real(_) => write_real(&mut params, &mut inputs, v.field, r.f_any()?).map_err(bad)?,
+            Start::Integer(_) => {
+                let mut a = [0u8; 4];
+                a.copy_from_slice(r.take(4)?);
+                write_int(&mut params, v.field, i32::from_le_bytes(a)).map_err(bad)?
+            }
+            Start::Boolean(_) => match (v.field, r.b()?) {
+                (Field::CompParam { par: CompPar::RefGiven, k }, x @ (0 | 1)) => params.ref_given[k as usize] = x == 1,
+                _ => return Err(bad("is not a Boolean 0 or 1")),
+            },
+        }
+    }
+    params
+        .check(&t.spec.connection.roles())
+        .map_err(|name| format!("invalid parameter {name}"))?;
+    for v in &t.vars {
+        if let Field::Input { .. } = v.field {
+            write_real(&mut params, &mut inputs, v.field, r.f_any()?)
+                .map_err(|why| format!("input {} {why}", v.name))?;
+        }
+    }
+    let mask = r.u32()?;
+    if mask >> 26 != 0 {
+        return Err("input-derivative mask has unknown bits".into());
+    }
+    let mut input_der = [[0.0; 13]; 2];
+    let mut input_der_set = [[false; 13]; 2];
+    for n in 0..2 {
+        for i in 0..13 {
+            if mask & (1 << (13 * n + i)) != 0 {
+                input_der[n][i] = r.f("input derivative")?;
+                input_der_set[n][i] = true;
+            }
+        }
+    }
+    let [beta, alpha, ex, ey, ez] = r.fs::<5>("angle branch")?;
+    let e_r_local = Vec3::new(ex, ey, ez);
+    if (e_r_local.norm() - 1.0).abs() > 1e-9 {
+        return Err("radial direction is not a unit vector".into());
+    }
+    let c0 = r.fs::<6>("initial position")?;
+    let mut stop_status = [0i8; 6];
+    for s in stop_status.iter_mut() {
+        *s = match r.b()? {
+            0 => 0,
+            1 => 1,
+            255 => -1,
+            x => return Err(format!("stop status {x} is not -1, 0 or 1")),
+        };
+    }
+    let [s0, s1, sr, acc, acc_r, fdiss] = r.fs::<6>("friction state")?;
+    let (st0, st1) = (status(r.b()?)?, status(r.b()?)?);
+    let [damping, stops, p0, p1] = r.fs::<4>("energy")?;
+    if r.at != body.len() {
+        return Err(format!("{} unexpected trailing bytes", body.len() - r.at));
+    }
+    Ok(Snapshot {
+        mode,
+        time,
+        start_time,
+        params,
+        inputs,
+        input_der,
+        input_der_set,
+        state: State {
+            branches: Branches { beta, alpha, e_r_local },
+            c0,
+            stop_status,
+            friction: FrictionState {
+                slip_plastic: [s0, s1],
+                slip_plastic_r1: sr,
+                slip_acc: acc,
+                slip_acc_r1: acc_r,
+                status: st0,
+                status_r1: st1,
+                dissipated: fdiss,
+            },
+            dissipated: Energy {
+                stored: 0.0,
+                damping,
+                friction: 0.0,
+                stops,
+            },
+            power: [p0, p1],
+        },
+    })
+}
