@@ -308,7 +308,8 @@ pub fn evaluate(
     }
 
     // PLANAR friction: normal force and moment from the constraint reactions f1, m2, m3
-    if ct.rot == super::kinematics::Rotational::Revolute && p.friction.enabled() {
+    // (F_NC and M_NR1 are reported even when μ = 0 turns the friction force off)
+    if ct.rot == super::kinematics::Rotational::Revolute {
         let fr = friction::update(
             &p.friction,
             &st.friction,
