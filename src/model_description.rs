@@ -12,9 +12,9 @@ pub mod capabilities {
     /// fmi2GetFMUstate / fmi2SetFMUstate / fmi2FreeFMUstate.
     pub const CAN_GET_AND_SET_FMU_STATE: bool = true;
     /// fmi2SerializeFMUstate and friends.
-    pub const CAN_SERIALIZE_FMU_STATE: bool = false;
+    pub const CAN_SERIALIZE_FMU_STATE: bool = true;
     /// fmi2GetDirectionalDerivative.
-    pub const PROVIDES_DIRECTIONAL_DERIVATIVE: bool = false;
+    pub const PROVIDES_DIRECTIONAL_DERIVATIVE: bool = true;
 }
 
 #[derive(Serialize)]

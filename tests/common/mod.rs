@@ -1,0 +1,298 @@
+//! Shared helpers for the ABI tests: the tests link the rlib and call the `extern "C"`
+//! functions directly, as an importer would through the shared library.
+#![allow(dead_code)]
+
+use connector_fmu::fmi2::exports::*;
+use connector_fmu::fmi2::types::*;
+use connector_fmu::variables::{table, Causality, Start, Variant};
+use std::ffi::{c_char, c_int, c_void, CStr, CString};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+
+/// fmi2CoSimulation as the C int an importer passes.
+pub const CO_SIMULATION: c_int = 1;
+
+/// One message the FMU sent to the importer's logger.
+#[derive(Clone, Debug)]
+pub struct LogLine {
+    /// Instance name as given by the FMU.
+    pub instance: String,
+    /// fmi2Status as int.
+    pub status: c_int,
+    /// Category name.
+    pub category: String,
+    /// Message exactly as received (with `%` doubled by the FMU).
+    pub message: String,
+}
+
+/// Every message of every test, keyed by the componentEnvironment the test passed, so that
+/// tests running in parallel do not see each other's messages.
+static LOG: Mutex<Vec<(usize, LogLine)>> = Mutex::new(Vec::new());
+/// Source of unique componentEnvironment keys (never dereferenced, never reused).
+static NEXT_ENV: AtomicUsize = AtomicUsize::new(1);
+
+fn text(p: *const c_char) -> String {
+    if p.is_null() {
+        return "<NULL>".into();
+    }
+    // SAFETY: the FMU passes NUL-terminated strings that live for the duration of the call.
+    unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned()
+}
+
+/// The test logger: a plain five-argument function (stable Rust cannot define a C-variadic one).
+extern "C" fn test_logger(
+    env: *mut c_void,
+    instance: *const c_char,
+    status: c_int,
+    category: *const c_char,
+    message: *const c_char,
+) {
+    let line = LogLine {
+        instance: text(instance),
+        status,
+        category: text(category),
+        message: text(message),
+    };
+    LOG.lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .push((env as usize, line));
+}
+
+/// A fresh componentEnvironment key.
+pub fn new_env() -> usize {
+    NEXT_ENV.fetch_add(1, Ordering::Relaxed)
+}
+
+/// The messages logged for `env` so far.
+pub fn log_of(env: usize) -> Vec<LogLine> {
+    let log = LOG.lock().unwrap_or_else(|e| e.into_inner());
+    log.iter()
+        .filter(|(e, _)| *e == env)
+        .map(|(_, l)| l.clone())
+        .collect()
+}
+
+/// Callback struct whose logger records into `LOG` under `env`.
+pub fn callbacks(env: usize) -> fmi2CallbackFunctions {
+    let plain: extern "C" fn(*mut c_void, *const c_char, c_int, *const c_char, *const c_char) =
+        test_logger;
+    // SAFETY: both are C-ABI function pointers; the FMU calls the logger with exactly the five
+    // fixed arguments (its contract, B4), whose types have the same ABI here (fmi2Status is a
+    // #[repr(C)] enum passed as int). Calling a non-variadic function through a variadic
+    // pointer with only the fixed arguments is what fmpy's ctypes callback does too.
+    let logger = unsafe {
+        std::mem::transmute::<
+            extern "C" fn(*mut c_void, *const c_char, c_int, *const c_char, *const c_char),
+            fmi2CallbackLogger,
+        >(plain)
+    };
+    fmi2CallbackFunctions {
+        logger: Some(logger),
+        allocateMemory: None,
+        freeMemory: None,
+        stepFinished: None,
+        componentEnvironment: env as *mut c_void,
+    }
+}
+
+/// The GUID of a variant.
+pub fn guid(v: Variant) -> String {
+    table(v).guid.clone()
+}
+
+/// Calls fmi2Instantiate with optional (NULL) strings; returns the component.
+pub fn instantiate_raw(
+    name: Option<&str>,
+    fmu_type: c_int,
+    guid: Option<&str>,
+    functions: Option<&fmi2CallbackFunctions>,
+    logging_on: bool,
+) -> fmi2Component {
+    let name = name.map(|s| CString::new(s).unwrap());
+    let guid = guid.map(|s| CString::new(s).unwrap());
+    let ptr = |s: &Option<CString>| s.as_ref().map_or(std::ptr::null(), |s| s.as_ptr());
+    let f = functions.map_or(std::ptr::null(), |f| f as *const _);
+    fmi2Instantiate(
+        ptr(&name),
+        fmu_type,
+        ptr(&guid),
+        std::ptr::null(),
+        f,
+        fmi2False,
+        fmi2Boolean::from(logging_on),
+    )
+}
+
+/// One instance, freed on drop.
+pub struct Fmu {
+    pub c: fmi2Component,
+    pub env: usize,
+    pub variant: Variant,
+}
+
+impl Drop for Fmu {
+    fn drop(&mut self) {
+        fmi2FreeInstance(self.c);
+    }
+}
+
+impl Fmu {
+    /// A new instance of `v` (panics when fmi2Instantiate refuses).
+    pub fn new(v: Variant) -> Fmu {
+        Fmu::with_logging(v, false)
+    }
+
+    /// A new instance with loggingOn as given.
+    pub fn with_logging(v: Variant, logging_on: bool) -> Fmu {
+        let env = new_env();
+        let cb = callbacks(env);
+        let c = instantiate_raw(
+            Some("test instance"),
+            CO_SIMULATION,
+            Some(&guid(v)),
+            Some(&cb),
+            logging_on,
+        );
+        assert!(
+            !c.is_null(),
+            "fmi2Instantiate refused {v:?}: {:?}",
+            log_of(env)
+        );
+        Fmu { c, env, variant: v }
+    }
+
+    /// Messages logged by this instance so far.
+    pub fn log(&self) -> Vec<LogLine> {
+        log_of(self.env)
+    }
+
+    /// Number of messages logged so far.
+    pub fn log_len(&self) -> usize {
+        self.log().len()
+    }
+
+    /// Whether the variant has a variable of this name.
+    pub fn has(&self, name: &str) -> bool {
+        table(self.variant).vars.iter().any(|v| v.name == name)
+    }
+
+    /// Value reference of a variable (panics when the variant has none of that name).
+    pub fn vr(&self, name: &str) -> u32 {
+        table(self.variant)
+            .vars
+            .iter()
+            .find(|v| v.name == name)
+            .unwrap_or_else(|| panic!("{:?} has no variable {name}", self.variant))
+            .vr
+    }
+
+    /// Value references of the Real (resp. Integer) outputs.
+    pub fn outputs(&self, integer: bool) -> Vec<u32> {
+        table(self.variant)
+            .vars
+            .iter()
+            .filter(|v| v.causality == Causality::Output)
+            .filter(|v| matches!(v.start, Start::Integer(_)) == integer)
+            .map(|v| v.vr)
+            .collect()
+    }
+
+    /// fmi2SetReal of one variable.
+    pub fn set_real(&self, name: &str, x: f64) -> fmi2Status {
+        fmi2SetReal(self.c, &self.vr(name), 1, &x)
+    }
+
+    /// fmi2SetReal of one variable when the variant has it.
+    pub fn set_real_if(&self, name: &str, x: f64) {
+        if self.has(name) {
+            assert_eq!(
+                self.set_real(name, x),
+                fmi2Status::OK,
+                "{name}: {:?}",
+                self.log()
+            );
+        }
+    }
+
+    /// fmi2GetReal of one variable, asserting OK.
+    pub fn get_real(&self, name: &str) -> f64 {
+        let mut x = f64::NAN;
+        let s = fmi2GetReal(self.c, &self.vr(name), 1, &mut x);
+        assert_eq!(s, fmi2Status::OK, "{name}: {:?}", self.log());
+        x
+    }
+
+    /// fmi2GetReal of several VRs, asserting OK.
+    pub fn get_reals(&self, vrs: &[u32]) -> Vec<f64> {
+        let mut out = vec![f64::NAN; vrs.len()];
+        let s = fmi2GetReal(self.c, vrs.as_ptr(), vrs.len(), out.as_mut_ptr());
+        assert_eq!(s, fmi2Status::OK, "{:?}", self.log());
+        out
+    }
+
+    /// fmi2GetInteger of several VRs, asserting OK.
+    pub fn get_integers(&self, vrs: &[u32]) -> Vec<i32> {
+        let mut out = vec![i32::MIN; vrs.len()];
+        let s = fmi2GetInteger(self.c, vrs.as_ptr(), vrs.len(), out.as_mut_ptr());
+        assert_eq!(s, fmi2Status::OK, "{:?}", self.log());
+        out
+    }
+
+    /// fmi2SetupExperiment(start 0, no tolerance, no stop time).
+    pub fn setup(&self) -> fmi2Status {
+        fmi2SetupExperiment(self.c, fmi2False, 0.0, 0.0, fmi2False, 0.0)
+    }
+
+    /// Setup and enter initialization mode, asserting OK.
+    pub fn enter_init(&self) {
+        assert_eq!(self.setup(), fmi2Status::OK, "{:?}", self.log());
+        assert_eq!(
+            fmi2EnterInitializationMode(self.c),
+            fmi2Status::OK,
+            "{:?}",
+            self.log()
+        );
+    }
+
+    /// Exit initialization mode, asserting OK.
+    pub fn exit_init(&self) {
+        assert_eq!(
+            fmi2ExitInitializationMode(self.c),
+            fmi2Status::OK,
+            "{:?}",
+            self.log()
+        );
+    }
+
+    /// Setup, enter and exit initialization mode, asserting OK.
+    pub fn init(&self) {
+        self.enter_init();
+        self.exit_init();
+    }
+
+    /// fmi2DoStep.
+    pub fn step(&self, t: f64, h: f64) -> fmi2Status {
+        fmi2DoStep(self.c, t, h, fmi2False)
+    }
+}
+
+/// Asserts that `status` is fmi2Error and that exactly one new message, an fmi2Error naming
+/// `fname`, was logged since `before` messages.
+#[track_caller]
+pub fn assert_error_logged(f: &Fmu, before: usize, status: fmi2Status, fname: &str) {
+    let log = f.log();
+    assert_eq!(status, fmi2Status::Error, "{fname}: {:?}", &log[before..]);
+    assert_eq!(
+        log.len(),
+        before + 1,
+        "{fname} must log exactly one message: {:?}",
+        &log[before..]
+    );
+    let line = &log[before];
+    assert_eq!(line.status, fmi2Status::Error as c_int, "{line:?}");
+    assert_eq!(line.category, "logStatusError", "{line:?}");
+    assert!(
+        line.message.contains(fname),
+        "message does not name {fname}: {line:?}"
+    );
+}
