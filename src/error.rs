@@ -32,7 +32,12 @@ pub enum Category {
 
 impl Category {
     /// All categories, in model-description order.
-    pub const ALL: [Category; 4] = [Category::Warning, Category::Error, Category::Events, Category::All];
+    pub const ALL: [Category; 4] = [
+        Category::Warning,
+        Category::Error,
+        Category::Events,
+        Category::All,
+    ];
 
     /// The category's name in the model description.
     pub fn name(self) -> &'static str {

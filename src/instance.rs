@@ -9,7 +9,7 @@ use crate::physics::kinematics::{ConnectionType, Node, Singular};
 use crate::physics::math::{quat_from_wxyz, Real, Vec3};
 use crate::physics::step::{advance, Rates, StepError};
 use crate::variables::{
-    table, CompOut, CompPar, Causality, Field, FrictionField, ScalarPar, Start, Table, VarSpec,
+    table, Causality, CompOut, CompPar, Field, FrictionField, ScalarPar, Start, Table, VarSpec,
     Variability, Variant,
 };
 
@@ -83,7 +83,9 @@ impl Call {
                 Error,
             ]),
             Call::Set => m(&[Instantiated, InitializationMode, StepComplete]),
-            Call::OutputDerivatives => m(&[StepComplete, StepFailed, StepCanceled, Terminated, Error]),
+            Call::OutputDerivatives => {
+                m(&[StepComplete, StepFailed, StepCanceled, Terminated, Error])
+            }
             Call::DoStep => m(&[StepComplete]),
             Call::Status => m(&[StepComplete, StepFailed, StepCanceled, Terminated]),
         }
@@ -102,6 +104,8 @@ pub type NodeInputs = [Real; 13];
 /// Everything that influences the future; `fmi2GetFMUstate` copies it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Snapshot {
+    /// The variant the state belongs to.
+    pub variant: Variant,
     /// State-machine mode.
     pub mode: Mode,
     /// Current time (s).
@@ -149,6 +153,7 @@ fn start_snapshot(t: &Table) -> Snapshot {
     inputs[0][3] = 1.0;
     inputs[1][3] = 1.0;
     Snapshot {
+        variant: t.spec.variant,
         mode: Mode::Instantiated,
         time: 0.0,
         start_time: 0.0,
@@ -252,7 +257,9 @@ impl ModelInstance {
     pub fn setup_experiment(&mut self, start: Real, _stop: Option<Real>) -> FmuResult<()> {
         self.allowed(Call::Setup, "fmi2SetupExperiment")?;
         if !start.is_finite() {
-            return Err(FmuError::error("fmi2SetupExperiment: startTime is not finite"));
+            return Err(FmuError::error(
+                "fmi2SetupExperiment: startTime is not finite",
+            ));
         }
         self.s.start_time = start;
         self.s.time = start;
@@ -271,7 +278,9 @@ impl ModelInstance {
     pub fn exit_initialization_mode(&mut self) -> FmuResult<()> {
         self.allowed(Call::ExitInit, "fmi2ExitInitializationMode")?;
         self.s.params.check(&self.ct.roles()).map_err(|name| {
-            FmuError::error(format!("fmi2ExitInitializationMode: invalid parameter {name}"))
+            FmuError::error(format!(
+                "fmi2ExitInitializationMode: invalid parameter {name}"
+            ))
         })?;
         let (a, b) = self.nodes()?;
         let st = initial_state(self.ct, &self.s.params, &a, &b)
@@ -329,7 +338,10 @@ impl ModelInstance {
         if ok {
             Ok(())
         } else if v.causality == Causality::Output {
-            Err(FmuError::error(format!("{fname}: {} is an output and cannot be set", v.name)))
+            Err(FmuError::error(format!(
+                "{fname}: {} is an output and cannot be set",
+                v.name
+            )))
         } else {
             Err(FmuError::error(format!(
                 "{fname}: fixed parameter {} cannot be set in state {:?}",
@@ -377,21 +389,29 @@ impl ModelInstance {
 
     /// fmi2SetInteger.
     pub fn set_integer(&mut self, vrs: &[u32], values: &[i32]) -> FmuResult<()> {
-        self.set_batch(vrs, values, "Integer", "fmi2SetInteger", |p, _, f, x| write_int(p, f, x))
+        self.set_batch(vrs, values, "Integer", "fmi2SetInteger", |p, _, f, x| {
+            write_int(p, f, x)
+        })
     }
 
     /// fmi2SetBoolean.
     pub fn set_boolean(&mut self, vrs: &[u32], values: &[bool]) -> FmuResult<()> {
-        self.set_batch(vrs, values, "Boolean", "fmi2SetBoolean", |p, _, f, x| match f {
-            Field::CompParam {
-                par: CompPar::RefGiven,
-                k,
-            } => {
-                p.ref_given[k as usize] = x;
-                Ok(())
-            }
-            _ => Err("is not a Boolean"),
-        })
+        self.set_batch(
+            vrs,
+            values,
+            "Boolean",
+            "fmi2SetBoolean",
+            |p, _, f, x| match f {
+                Field::CompParam {
+                    par: CompPar::RefGiven,
+                    k,
+                } => {
+                    p.ref_given[k as usize] = x;
+                    Ok(())
+                }
+                _ => Err("is not a Boolean"),
+            },
+        )
     }
 
     /// fmi2SetString: there are no String variables.
@@ -424,13 +444,15 @@ impl ModelInstance {
     /// Outputs at the given inputs with the committed state (in initialization: with the
     /// state the instance would start from at those inputs).
     fn evaluate_at(&self, inputs: &[NodeInputs; 2], fname: &str) -> FmuResult<Outputs> {
-        let (a, b) = nodes_of(inputs).map_err(|e| FmuError::error(format!("{fname}: {}", e.message)))?;
+        let (a, b) =
+            nodes_of(inputs).map_err(|e| FmuError::error(format!("{fname}: {}", e.message)))?;
         let st = if self.s.mode == Mode::InitializationMode {
             initial_state(self.ct, &self.s.params, &a, &b).map_err(|e| singular_error(fname, e))?
         } else {
             self.s.state
         };
-        let (o, _) = evaluate(self.ct, &self.s.params, &st, &a, &b).map_err(|e| singular_error(fname, e))?;
+        let (o, _) =
+            evaluate(self.ct, &self.s.params, &st, &a, &b).map_err(|e| singular_error(fname, e))?;
         if !crate::physics::step::outputs_finite(&o) {
             return Err(FmuError::error(format!(
                 "{fname}: the outputs at these inputs are not finite"
@@ -512,7 +534,12 @@ impl ModelInstance {
     }
 
     /// fmi2SetRealInputDerivatives (first order only; valid for the next fmi2DoStep).
-    pub fn set_real_input_derivatives(&mut self, vrs: &[u32], orders: &[i32], values: &[Real]) -> FmuResult<()> {
+    pub fn set_real_input_derivatives(
+        &mut self,
+        vrs: &[u32],
+        orders: &[i32],
+        values: &[Real],
+    ) -> FmuResult<()> {
         const F: &str = "fmi2SetRealInputDerivatives";
         self.allowed(Call::Set, F)?;
         let mut der = self.s.input_der;
@@ -529,7 +556,10 @@ impl ModelInstance {
                 )));
             }
             if !x.is_finite() {
-                return Err(FmuError::error(format!("{F}: derivative of {} is not finite; not set", v.name)));
+                return Err(FmuError::error(format!(
+                    "{F}: derivative of {} is not finite; not set",
+                    v.name
+                )));
             }
             der[node as usize][idx as usize] = x;
             set[node as usize][idx as usize] = true;
@@ -572,8 +602,10 @@ impl ModelInstance {
     pub fn do_step(&mut self, t: Real, h: Real) -> FmuResult<()> {
         const F: &str = "fmi2DoStep";
         self.allowed(Call::DoStep, F)?;
-        if !(h > 0.0) || !h.is_finite() {
-            return Err(FmuError::error(format!("{F}: communicationStepSize {h} must be finite and > 0")));
+        if !h.is_finite() || h <= 0.0 {
+            return Err(FmuError::error(format!(
+                "{F}: communicationStepSize {h} must be finite and > 0"
+            )));
         }
         let tol = 1e-9 * t.abs().max(1.0);
         if !t.is_finite() || (t - self.s.time).abs() > tol {
@@ -582,10 +614,19 @@ impl ModelInstance {
                 self.s.time
             )));
         }
-        let (a, b) = self.nodes().map_err(|e| FmuError::error(format!("{F}: {}", e.message)))?;
+        let (a, b) = self
+            .nodes()
+            .map_err(|e| FmuError::error(format!("{F}: {}", e.message)))?;
         let (ra, rb) = (self.rates(0, &a), self.rates(1, &b));
         let before = self.s.state;
-        match advance(self.ct, &self.s.params, &self.s.state, &a, &b, &ra, &rb, h) {
+        match advance(
+            self.ct,
+            &self.s.params,
+            &self.s.state,
+            (&a, &ra),
+            (&b, &rb),
+            h,
+        ) {
             Ok(adv) => {
                 self.s.state = adv.state;
                 self.s.time = t + h;
@@ -632,7 +673,13 @@ impl ModelInstance {
                 self.log(
                     Level::Ok,
                     Category::Events,
-                    &format!("t = {}: component {} {} (was {})", self.s.time, k + 1, what(s1), what(s0)),
+                    &format!(
+                        "t = {}: component {} {} (was {})",
+                        self.s.time,
+                        k + 1,
+                        what(s1),
+                        what(s0)
+                    ),
                 );
             }
         }
@@ -645,7 +692,10 @@ impl ModelInstance {
                 self.log(
                     Level::Ok,
                     Category::Events,
-                    &format!("t = {}: {what} friction {:?} (was {:?})", self.s.time, s1, s0),
+                    &format!(
+                        "t = {}: {what} friction {:?} (was {:?})",
+                        self.s.time, s1, s0
+                    ),
                 );
             }
         }
@@ -672,6 +722,13 @@ impl ModelInstance {
     /// fmi2SetFMUstate.
     pub fn set_state(&mut self, s: &Snapshot) -> FmuResult<()> {
         self.allowed(Call::Lifecycle, "fmi2SetFMUstate")?;
+        if s.variant != self.s.variant {
+            return Err(FmuError::error(format!(
+                "fmi2SetFMUstate: the state belongs to {}, not {}; state not restored",
+                s.variant.spec().model_identifier,
+                self.table.spec.model_identifier
+            )));
+        }
         self.s = s.clone();
         self.cache = None;
         Ok(())
@@ -683,22 +740,22 @@ fn nodes_of(inputs: &[NodeInputs; 2]) -> FmuResult<(Node, Node)> {
     let mut out = [Node::default(); 2];
     for (n, node) in out.iter_mut().enumerate() {
         let u = &inputs[n];
-            let q = quat_from_wxyz(u[3], u[4], u[5], u[6]).ok_or_else(|| {
+        let q = quat_from_wxyz(u[3], u[4], u[5], u[6]).ok_or_else(|| {
                 let nm = ["a", "b"][n];
                 FmuError::error(format!(
                     "orientation {nm}.q = ({}, {}, {}, {}) is not a rotation: its norm is below 1e-6 or not finite",
                     u[3], u[4], u[5], u[6]
                 ))
             })?;
-            *node = Node {
-                r: Vec3::new(u[0], u[1], u[2]),
-                q,
-                v: Vec3::new(u[7], u[8], u[9]),
-                w: Vec3::new(u[10], u[11], u[12]),
-            };
-        }
-        Ok((out[0], out[1]))
+        *node = Node {
+            r: Vec3::new(u[0], u[1], u[2]),
+            q,
+            v: Vec3::new(u[7], u[8], u[9]),
+            w: Vec3::new(u[10], u[11], u[12]),
+        };
     }
+    Ok((out[0], out[1]))
+}
 
 /// Writes an extrapolated node back into the inputs.
 fn write_node(u: &mut NodeInputs, n: &Node) {
@@ -714,7 +771,8 @@ fn singular_text(s: Singular) -> String {
             "flexion angle α = {a} rad is at the singular configuration α → π (shafts folded back)"
         ),
         Singular::RevoluteUndefined => {
-            "PLANAR rotation α is undefined: e3b is perpendicular to the 2-3 plane of node a".to_string()
+            "PLANAR rotation α is undefined: e3b is perpendicular to the 2-3 plane of node a"
+                .to_string()
         }
         Singular::NotFinite => "a connector position is not finite".to_string(),
     }
@@ -725,8 +783,19 @@ fn singular_error(fname: &str, s: Singular) -> FmuError {
 }
 
 /// Writes a Real value into parameters or inputs after checking it.
-pub(crate) fn write_real(p: &mut Params, u: &mut [NodeInputs; 2], f: Field, x: Real) -> Result<(), &'static str> {
-    let finite = |x: Real| if x.is_finite() { Ok(x) } else { Err("is not finite") };
+pub(crate) fn write_real(
+    p: &mut Params,
+    u: &mut [NodeInputs; 2],
+    f: Field,
+    x: Real,
+) -> Result<(), &'static str> {
+    let finite = |x: Real| {
+        if x.is_finite() {
+            Ok(x)
+        } else {
+            Err("is not finite")
+        }
+    };
     let nonneg = |x: Real| {
         if !x.is_finite() {
             Err("is not finite")
@@ -928,10 +997,16 @@ impl ModelInstance {
         for (&vr, &d) in knowns.iter().zip(dknown) {
             let v = self.var(vr, "Real", F)?;
             let Field::Input { node, idx } = v.field else {
-                return Err(FmuError::error(format!("{F}: known {} is not an input", v.name)));
+                return Err(FmuError::error(format!(
+                    "{F}: known {} is not an input",
+                    v.name
+                )));
             };
             if !d.is_finite() {
-                return Err(FmuError::error(format!("{F}: seed for {} is not finite", v.name)));
+                return Err(FmuError::error(format!(
+                    "{F}: seed for {} is not finite",
+                    v.name
+                )));
             }
             scale = scale.max(self.s.inputs[node as usize][idx as usize].abs());
             dmax = dmax.max(d.abs());
@@ -962,8 +1037,11 @@ impl ModelInstance {
     /// fmi2DeSerializeFMUstate: validates bytes and returns the snapshot they hold.
     pub fn deserialize(&self, bytes: &[u8]) -> FmuResult<Snapshot> {
         self.allowed(Call::Lifecycle, "fmi2DeSerializeFMUstate")?;
-        crate::state_bytes::decode(self.table, bytes)
-            .map_err(|why| FmuError::error(format!("fmi2DeSerializeFMUstate: {why}; state not restored")))
+        crate::state_bytes::decode(self.table, bytes).map_err(|why| {
+            FmuError::error(format!(
+                "fmi2DeSerializeFMUstate: {why}; state not restored"
+            ))
+        })
     }
 }
 

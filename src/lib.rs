@@ -2,7 +2,8 @@
 #![deny(unsafe_code)]
 
 pub mod error;
-#[allow(unsafe_code)] pub mod fmi2;
+#[allow(unsafe_code)]
+pub mod fmi2;
 pub mod instance;
 pub mod model_description;
 pub mod physics;

@@ -8,7 +8,9 @@
 //! are written back through the same checks as fmi2Set*, so a decoded state is one that the
 //! setters could have produced.
 
-use crate::instance::{read_int_param, read_real_param, write_int, write_real, Mode, NodeInputs, Snapshot};
+use crate::instance::{
+    read_int_param, read_real_param, write_int, write_real, Mode, NodeInputs, Snapshot,
+};
 use crate::physics::connector::{Energy, State};
 use crate::physics::friction::{FrictionState, Status};
 use crate::physics::kinematics::Branches;
@@ -47,7 +49,11 @@ impl<'a> R<'a> {
                 self.at = e;
                 Ok(s)
             }
-            None => Err(format!("truncated at byte {} of {}", self.at, self.bytes.len())),
+            None => Err(format!(
+                "truncated at byte {} of {}",
+                self.at,
+                self.bytes.len()
+            )),
         }
     }
     fn f(&mut self, what: &str) -> Result<f64, String> {
@@ -83,9 +89,9 @@ impl<'a> R<'a> {
 }
 
 fn fnv(bytes: &[u8]) -> u64 {
-    bytes
-        .iter()
-        .fold(0xcbf2_9ce4_8422_2325u64, |h, &b| (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3))
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| {
+        (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
+    })
 }
 
 const MODES: [Mode; 7] = [
@@ -108,10 +114,16 @@ pub fn encode(t: &Table, s: &Snapshot) -> Vec<u8> {
     w.0.extend_from_slice(id);
     w.b(MODES.iter().position(|&m| m == s.mode).unwrap_or(0) as u8);
     w.fs(&[s.time, s.start_time]);
-    for v in t.vars.iter().filter(|v| v.causality == Causality::Parameter) {
+    for v in t
+        .vars
+        .iter()
+        .filter(|v| v.causality == Causality::Parameter)
+    {
         match v.start {
             Start::Real(_) => w.f(read_real_param(&s.params, v.field)),
-            Start::Integer(_) => w.0.extend_from_slice(&read_int_param(&s.params, v.field).to_le_bytes()),
+            Start::Integer(_) => {
+                w.0.extend_from_slice(&read_int_param(&s.params, v.field).to_le_bytes())
+            }
             Start::Boolean(_) => match v.field {
                 Field::CompParam { k, .. } => w.b(s.params.ref_given[k as usize] as u8),
                 _ => w.b(0),
@@ -141,7 +153,13 @@ pub fn encode(t: &Table, s: &Snapshot) -> Vec<u8> {
     }
     let st = &s.state;
     let br = &st.branches;
-    w.fs(&[br.beta, br.alpha, br.e_r_local.x, br.e_r_local.y, br.e_r_local.z]);
+    w.fs(&[
+        br.beta,
+        br.alpha,
+        br.e_r_local.x,
+        br.e_r_local.y,
+        br.e_r_local.z,
+    ]);
     w.fs(&st.c0);
     st.stop_status.iter().for_each(|&x| w.b(x as u8));
     let fr = &st.friction;
@@ -174,7 +192,10 @@ fn status(x: u8) -> Result<Status, String> {
 /// Decodes and validates bytes written by `encode` for the same variant.
 pub fn decode(t: &Table, bytes: &[u8]) -> Result<Snapshot, String> {
     if bytes.len() < 8 + MAGIC.len() {
-        return Err(format!("{} bytes are too few for a serialized state", bytes.len()));
+        return Err(format!(
+            "{} bytes are too few for a serialized state",
+            bytes.len()
+        ));
     }
     let (body, sum) = bytes.split_at(bytes.len() - 8);
     if bytes[..4] != MAGIC[..] {
@@ -190,7 +211,9 @@ pub fn decode(t: &Table, bytes: &[u8]) -> Result<Snapshot, String> {
     v.copy_from_slice(r.take(2)?);
     let version = u16::from_le_bytes(v);
     if version != VERSION {
-        return Err(format!("format version {version} is not the supported version {VERSION}"));
+        return Err(format!(
+            "format version {version} is not the supported version {VERSION}"
+        ));
     }
     let n = r.b()? as usize;
     let id = r.take(n)?;
@@ -208,17 +231,29 @@ pub fn decode(t: &Table, bytes: &[u8]) -> Result<Snapshot, String> {
     let mut inputs: [NodeInputs; 2] = [[0.0; 13]; 2];
     inputs[0][3] = 1.0;
     inputs[1][3] = 1.0;
-    for v in t.vars.iter().filter(|v| v.causality == Causality::Parameter) {
+    for v in t
+        .vars
+        .iter()
+        .filter(|v| v.causality == Causality::Parameter)
+    {
         let bad = |why: &str| format!("parameter {} {why}", v.name);
         match v.start {
-            Start::Real(_) => write_real(&mut params, &mut inputs, v.field, r.f_any()?).map_err(bad)?,
+            Start::Real(_) => {
+                write_real(&mut params, &mut inputs, v.field, r.f_any()?).map_err(bad)?
+            }
             Start::Integer(_) => {
                 let mut a = [0u8; 4];
                 a.copy_from_slice(r.take(4)?);
                 write_int(&mut params, v.field, i32::from_le_bytes(a)).map_err(bad)?
             }
             Start::Boolean(_) => match (v.field, r.b()?) {
-                (Field::CompParam { par: CompPar::RefGiven, k }, x @ (0 | 1)) => params.ref_given[k as usize] = x == 1,
+                (
+                    Field::CompParam {
+                        par: CompPar::RefGiven,
+                        k,
+                    },
+                    x @ (0 | 1),
+                ) => params.ref_given[k as usize] = x == 1,
                 _ => return Err(bad("is not a Boolean 0 or 1")),
             },
         }
@@ -268,6 +303,7 @@ pub fn decode(t: &Table, bytes: &[u8]) -> Result<Snapshot, String> {
         return Err(format!("{} unexpected trailing bytes", body.len() - r.at));
     }
     Ok(Snapshot {
+        variant: t.spec.variant,
         mode,
         time,
         start_time,
@@ -276,7 +312,11 @@ pub fn decode(t: &Table, bytes: &[u8]) -> Result<Snapshot, String> {
         input_der,
         input_der_set,
         state: State {
-            branches: Branches { beta, alpha, e_r_local },
+            branches: Branches {
+                beta,
+                alpha,
+                e_r_local,
+            },
             c0,
             stop_status,
             friction: FrictionState {

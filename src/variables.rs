@@ -354,14 +354,44 @@ pub fn variant_by_guid(guid: &str) -> Option<Variant> {
 }
 
 const COMP_OUTS: [(CompOut, &str, &str, &str, Deps); 8] = [
-    (CompOut::Position, "CP", "CPR", "position (x, y, z, r, l / α1, α2, β, α)", Deps::Pose),
-    (CompOut::Motion, "CU", "CUR", "motion from the initial state", Deps::Pose),
-    (CompOut::Velocity, "CV", "CVR", "relative velocity", Deps::All),
-    (CompOut::Total, "CTF", "CTM", "total force in the connector", Deps::All),
+    (
+        CompOut::Position,
+        "CP",
+        "CPR",
+        "position (x, y, z, r, l / α1, α2, β, α)",
+        Deps::Pose,
+    ),
+    (
+        CompOut::Motion,
+        "CU",
+        "CUR",
+        "motion from the initial state",
+        Deps::Pose,
+    ),
+    (
+        CompOut::Velocity,
+        "CV",
+        "CVR",
+        "relative velocity",
+        Deps::All,
+    ),
+    (
+        CompOut::Total,
+        "CTF",
+        "CTM",
+        "total force in the connector",
+        Deps::All,
+    ),
     (CompOut::Elastic, "CEF", "CEM", "elastic force", Deps::Pose),
     (CompOut::Viscous, "CVF", "CVM", "viscous force", Deps::All),
     (CompOut::Friction, "CSF", "CSM", "friction force", Deps::All),
-    (CompOut::Reaction, "CRF", "CRM", "constraint and stop reaction", Deps::All),
+    (
+        CompOut::Reaction,
+        "CRF",
+        "CRM",
+        "constraint and stop reaction",
+        Deps::All,
+    ),
 ];
 
 /// Builds the table of one variant from the families below.
@@ -397,7 +427,13 @@ fn build(spec: &'static VariantSpec) -> Table {
     // ---- inputs: node poses and twists in W
     let node_quantities: [(&str, &str, u8, u8, &str); 4] = [
         ("r", "position", 0, 3, "m"),
-        ("q", "orientation quaternion (scalar first, node-local to W)", 3, 4, "1"),
+        (
+            "q",
+            "orientation quaternion (scalar first, node-local to W)",
+            3,
+            4,
+            "1",
+        ),
         ("v", "velocity", 7, 3, "m/s"),
         ("w", "angular velocity in W", 10, 3, "rad/s"),
     ];
@@ -444,7 +480,12 @@ fn build(spec: &'static VariantSpec) -> Table {
         ("a.f", "force on node a", "N", ct.uses_positions()),
         ("a.m", "moment on node a about its position", "N.m", true),
         ("b.f", "force on node b", "N", ct.uses_positions()),
-        ("b.m", "moment on node b about its position", "N.m", ct.uses_orientation_b()),
+        (
+            "b.m",
+            "moment on node b about its position",
+            "N.m",
+            ct.uses_orientation_b(),
+        ),
     ];
     for (w, (name, what, unit, present)) in loads.into_iter().enumerate() {
         if !present {
@@ -467,8 +508,8 @@ fn build(spec: &'static VariantSpec) -> Table {
 
     // ---- outputs: per component (available ones; PLANAR also its constrained reactions)
     for (o, (out, t_name, r_name, what, deps)) in COMP_OUTS.into_iter().enumerate() {
-        for k in 0..6usize {
-            let present = match roles[k] {
+        for (k, role) in roles.iter().enumerate() {
+            let present = match role {
                 Role::Available => out != CompOut::Friction || planar,
                 Role::Constrained => matches!(out, CompOut::Reaction | CompOut::Total),
                 Role::Absent => false,
@@ -477,7 +518,11 @@ fn build(spec: &'static VariantSpec) -> Table {
                 continue;
             }
             let rot = k >= 3;
-            let (name, i) = if rot { (r_name, k - 2) } else { (t_name, k + 1) };
+            let (name, i) = if rot {
+                (r_name, k - 2)
+            } else {
+                (t_name, k + 1)
+            };
             let unit = match (out, rot) {
                 (CompOut::Position | CompOut::Motion, false) => "m",
                 (CompOut::Position | CompOut::Motion, true) => "rad",
@@ -499,8 +544,8 @@ fn build(spec: &'static VariantSpec) -> Table {
             );
         }
     }
-    for k in 0..6usize {
-        if roles[k] == Role::Available {
+    for (k, role) in roles.iter().enumerate() {
+        if *role == Role::Available {
             push(
                 281 + k as u32,
                 format!("CSLST{}", k + 1),
@@ -509,7 +554,10 @@ fn build(spec: &'static VariantSpec) -> Table {
                 Discrete,
                 Start::Integer(None),
                 "",
-                format!("stop status of component {}: -1 lower, 0 free, +1 upper", k + 1),
+                format!(
+                    "stop status of component {}: -1 lower, 0 free, +1 upper",
+                    k + 1
+                ),
                 Deps::Pose,
             );
         }
@@ -520,13 +568,33 @@ fn build(spec: &'static VariantSpec) -> Table {
         use FrictionField::*;
         let fr: [(FrictionField, &str, &str, &str); 8] = [
             (Cnf, "CNF", "N", "friction-producing normal force F_NC"),
-            (Cnm1, "CNM1", "N.m", "friction-producing normal moment M_NR1"),
+            (
+                Cnm1,
+                "CNM1",
+                "N.m",
+                "friction-producing normal moment M_NR1",
+            ),
             (Csfc, "CSFC", "N", "magnitude of the sliding friction force"),
-            (Csmc1, "CSMC1", "N.m", "magnitude of the spin friction moment"),
+            (
+                Csmc1,
+                "CSMC1",
+                "N.m",
+                "magnitude of the spin friction moment",
+            ),
             (Slip, "friction.slip", "m", "accumulated sliding slip"),
             (SlipR1, "friction.slipR1", "rad", "accumulated spin slip"),
-            (Status, "friction.status", "", "sliding: 0 no normal force, 1 stick, 2 slip"),
-            (StatusR1, "friction.statusR1", "", "spin: 0 no normal force, 1 stick, 2 slip"),
+            (
+                Status,
+                "friction.status",
+                "",
+                "sliding: 0 no normal force, 1 stick, 2 slip",
+            ),
+            (
+                StatusR1,
+                "friction.statusR1",
+                "",
+                "spin: 0 no normal force, 1 stick, 2 slip",
+            ),
         ];
         for (i, (f, name, unit, what)) in fr.into_iter().enumerate() {
             let int = matches!(f, Status | StatusR1);
@@ -554,10 +622,26 @@ fn build(spec: &'static VariantSpec) -> Table {
 
     // ---- outputs: energy
     let energies = [
-        ("energy.stored", "energy stored in springs, penalties, stops and stick springs", Deps::Pose),
-        ("energy.damping", "energy dissipated by dampers since initialization", Deps::None),
-        ("energy.friction", "energy dissipated by friction since initialization", Deps::None),
-        ("energy.stops", "energy dissipated by stops since initialization", Deps::None),
+        (
+            "energy.stored",
+            "energy stored in springs, penalties, stops and stick springs",
+            Deps::Pose,
+        ),
+        (
+            "energy.damping",
+            "energy dissipated by dampers since initialization",
+            Deps::None,
+        ),
+        (
+            "energy.friction",
+            "energy dissipated by friction since initialization",
+            Deps::None,
+        ),
+        (
+            "energy.stops",
+            "energy dissipated by stops since initialization",
+            Deps::None,
+        ),
     ];
     for (i, (name, what, deps)) in energies.into_iter().enumerate() {
         if i == 2 && !planar {
@@ -578,26 +662,60 @@ fn build(spec: &'static VariantSpec) -> Table {
 
     // ---- parameters per available component
     let comp_pars: [(CompPar, &str, Variability, &str); 6] = [
-        (CompPar::Stiffness, "elasticity.k", Tunable, "linear stiffness"),
+        (
+            CompPar::Stiffness,
+            "elasticity.k",
+            Tunable,
+            "linear stiffness",
+        ),
         (CompPar::Damping, "damping.c", Tunable, "linear damping"),
-        (CompPar::RefGiven, "reference.given", Fixed, "use reference.value as constitutive reference (else the initial position)"),
-        (CompPar::RefValue, "reference.value", Fixed, "constitutive reference length/angle"),
-        (CompPar::StopLower, "stop.lower", Tunable, "lower stop on the position (-INF = none)"),
-        (CompPar::StopUpper, "stop.upper", Tunable, "upper stop on the position (+INF = none)"),
+        (
+            CompPar::RefGiven,
+            "reference.given",
+            Fixed,
+            "use reference.value as constitutive reference (else the initial position)",
+        ),
+        (
+            CompPar::RefValue,
+            "reference.value",
+            Fixed,
+            "constitutive reference length/angle",
+        ),
+        (
+            CompPar::StopLower,
+            "stop.lower",
+            Tunable,
+            "lower stop on the position (-INF = none)",
+        ),
+        (
+            CompPar::StopUpper,
+            "stop.upper",
+            Tunable,
+            "upper stop on the position (+INF = none)",
+        ),
     ];
     for (p, (par, name, variability, what)) in comp_pars.into_iter().enumerate() {
-        for k in 0..6usize {
-            if roles[k] != Role::Available {
+        for (k, role) in roles.iter().enumerate() {
+            if *role != Role::Available {
                 continue;
             }
             let rot = k >= 3;
             let (start, unit) = match par {
                 CompPar::Stiffness => (Start::Real(Some(0.0)), if rot { "N.m/rad" } else { "N/m" }),
-                CompPar::Damping => (Start::Real(Some(0.0)), if rot { "N.m.s/rad" } else { "N.s/m" }),
+                CompPar::Damping => (
+                    Start::Real(Some(0.0)),
+                    if rot { "N.m.s/rad" } else { "N.s/m" },
+                ),
                 CompPar::RefGiven => (Start::Boolean(Some(false)), ""),
                 CompPar::RefValue => (Start::Real(Some(0.0)), if rot { "rad" } else { "m" }),
-                CompPar::StopLower => (Start::Real(Some(f64::NEG_INFINITY)), if rot { "rad" } else { "m" }),
-                CompPar::StopUpper => (Start::Real(Some(f64::INFINITY)), if rot { "rad" } else { "m" }),
+                CompPar::StopLower => (
+                    Start::Real(Some(f64::NEG_INFINITY)),
+                    if rot { "rad" } else { "m" },
+                ),
+                CompPar::StopUpper => (
+                    Start::Real(Some(f64::INFINITY)),
+                    if rot { "rad" } else { "m" },
+                ),
             };
             push(
                 501 + 10 * p as u32 + k as u32,
@@ -620,26 +738,166 @@ fn build(spec: &'static VariantSpec) -> Table {
     let f = d.friction;
     use ScalarPar::*;
     let scalars: [(ScalarPar, &str, Start, &str, &str, bool); 20] = [
-        (StopK, "stop.stiffness", Start::Real(Some(d.stop.k)), "N/m", "translational stop penalty stiffness", has_trans),
-        (StopC, "stop.damping", Start::Real(Some(d.stop.c)), "N.s/m", "translational stop penalty damping", has_trans),
-        (StopKr, "stop.rotStiffness", Start::Real(Some(d.stop.k_rot)), "N.m/rad", "rotational stop penalty stiffness", has_rot),
-        (StopCr, "stop.rotDamping", Start::Real(Some(d.stop.c_rot)), "N.m.s/rad", "rotational stop penalty damping", has_rot),
-        (ConK, "constraint.stiffness", Start::Real(Some(d.constraint.k)), "N/m", "SLIDE-PLANE penalty stiffness", planar),
-        (ConC, "constraint.damping", Start::Real(Some(d.constraint.c)), "N.s/m", "SLIDE-PLANE penalty damping", planar),
-        (ConKr, "constraint.rotStiffness", Start::Real(Some(d.constraint.k_rot)), "N.m/rad", "REVOLUTE penalty stiffness", planar),
-        (ConCr, "constraint.rotDamping", Start::Real(Some(d.constraint.c_rot)), "N.m.s/rad", "REVOLUTE penalty damping", planar),
-        (MuS, "friction.muStatic", Start::Real(Some(f.mu_static)), "1", "static friction coefficient", planar),
-        (MuK, "friction.muKinetic", Start::Real(Some(f.mu_kinetic)), "1", "kinetic friction coefficient", planar),
-        (Decay, "friction.decay", Start::Real(Some(f.decay)), "s/m", "decay of mu with slip rate (0: mu = muStatic)", planar),
-        (Radius, "friction.R", Start::Real(Some(f.radius)), "m", "characteristic puck radius R (0: bending terms ignored)", planar),
-        (Fint, "friction.Fint", Start::Real(Some(f.f_int)), "N", "internal contact force F_C^int", planar),
-        (Mint, "friction.Mint", Start::Real(Some(f.m_int)), "N.m", "internal contact moment M_R1^int", planar),
-        (StickK, "friction.stickStiffness", Start::Real(Some(f.k_stick)), "N/m", "elastic stick stiffness of sliding", planar),
-        (StickKr, "friction.stickStiffnessR1", Start::Real(Some(f.k_stick_r1)), "N.m/rad", "elastic stick stiffness of spin", planar),
-        (MaxForce, "friction.maxForce", Start::Real(Some(f.max_force)), "N", "cap on the sliding friction force (+INF = none)", planar),
-        (Coupling, "friction.coupling", Start::Integer(Some(f.coupling)), "", "0 separate sliding and spin (Abaqus), 1 coupled ellipsoidal limit", planar),
-        (Extrapolation, "cosim.extrapolation", Start::Integer(Some(1)), "", "input extrapolation over a step: 0 hold, 1 linear", true),
-        (MaxSubstep, "cosim.maxSubstep", Start::Real(Some(d.max_substep)), "s", "largest internal substep (0: from the path alone)", true),
+        (
+            StopK,
+            "stop.stiffness",
+            Start::Real(Some(d.stop.k)),
+            "N/m",
+            "translational stop penalty stiffness",
+            has_trans,
+        ),
+        (
+            StopC,
+            "stop.damping",
+            Start::Real(Some(d.stop.c)),
+            "N.s/m",
+            "translational stop penalty damping",
+            has_trans,
+        ),
+        (
+            StopKr,
+            "stop.rotStiffness",
+            Start::Real(Some(d.stop.k_rot)),
+            "N.m/rad",
+            "rotational stop penalty stiffness",
+            has_rot,
+        ),
+        (
+            StopCr,
+            "stop.rotDamping",
+            Start::Real(Some(d.stop.c_rot)),
+            "N.m.s/rad",
+            "rotational stop penalty damping",
+            has_rot,
+        ),
+        (
+            ConK,
+            "constraint.stiffness",
+            Start::Real(Some(d.constraint.k)),
+            "N/m",
+            "SLIDE-PLANE penalty stiffness",
+            planar,
+        ),
+        (
+            ConC,
+            "constraint.damping",
+            Start::Real(Some(d.constraint.c)),
+            "N.s/m",
+            "SLIDE-PLANE penalty damping",
+            planar,
+        ),
+        (
+            ConKr,
+            "constraint.rotStiffness",
+            Start::Real(Some(d.constraint.k_rot)),
+            "N.m/rad",
+            "REVOLUTE penalty stiffness",
+            planar,
+        ),
+        (
+            ConCr,
+            "constraint.rotDamping",
+            Start::Real(Some(d.constraint.c_rot)),
+            "N.m.s/rad",
+            "REVOLUTE penalty damping",
+            planar,
+        ),
+        (
+            MuS,
+            "friction.muStatic",
+            Start::Real(Some(f.mu_static)),
+            "1",
+            "static friction coefficient",
+            planar,
+        ),
+        (
+            MuK,
+            "friction.muKinetic",
+            Start::Real(Some(f.mu_kinetic)),
+            "1",
+            "kinetic friction coefficient",
+            planar,
+        ),
+        (
+            Decay,
+            "friction.decay",
+            Start::Real(Some(f.decay)),
+            "s/m",
+            "decay of mu with slip rate (0: mu = muStatic)",
+            planar,
+        ),
+        (
+            Radius,
+            "friction.R",
+            Start::Real(Some(f.radius)),
+            "m",
+            "characteristic puck radius R (0: bending terms ignored)",
+            planar,
+        ),
+        (
+            Fint,
+            "friction.Fint",
+            Start::Real(Some(f.f_int)),
+            "N",
+            "internal contact force F_C^int",
+            planar,
+        ),
+        (
+            Mint,
+            "friction.Mint",
+            Start::Real(Some(f.m_int)),
+            "N.m",
+            "internal contact moment M_R1^int",
+            planar,
+        ),
+        (
+            StickK,
+            "friction.stickStiffness",
+            Start::Real(Some(f.k_stick)),
+            "N/m",
+            "elastic stick stiffness of sliding",
+            planar,
+        ),
+        (
+            StickKr,
+            "friction.stickStiffnessR1",
+            Start::Real(Some(f.k_stick_r1)),
+            "N.m/rad",
+            "elastic stick stiffness of spin",
+            planar,
+        ),
+        (
+            MaxForce,
+            "friction.maxForce",
+            Start::Real(Some(f.max_force)),
+            "N",
+            "cap on the sliding friction force (+INF = none)",
+            planar,
+        ),
+        (
+            Coupling,
+            "friction.coupling",
+            Start::Integer(Some(f.coupling)),
+            "",
+            "0 separate sliding and spin (Abaqus), 1 coupled ellipsoidal limit",
+            planar,
+        ),
+        (
+            Extrapolation,
+            "cosim.extrapolation",
+            Start::Integer(Some(1)),
+            "",
+            "input extrapolation over a step: 0 hold, 1 linear",
+            true,
+        ),
+        (
+            MaxSubstep,
+            "cosim.maxSubstep",
+            Start::Real(Some(d.max_substep)),
+            "s",
+            "largest internal substep (0: from the path alone)",
+            true,
+        ),
     ];
     for (i, (par, name, start, unit, what, present)) in scalars.into_iter().enumerate() {
         if !present {
@@ -716,15 +974,33 @@ mod tests {
 
     #[test]
     fn variants_expose_only_what_they_need() {
-        let names = |v: Variant| -> Vec<String> { table(v).vars.iter().map(|x| x.name.clone()).collect() };
+        let names =
+            |v: Variant| -> Vec<String> { table(v).vars.iter().map(|x| x.name.clone()).collect() };
         let rt = names(Variant::RadialThrust);
         assert!(rt.contains(&"a.q.w".to_string()));
-        assert!(!rt.iter().any(|n| n.starts_with("b.q") || n.starts_with("b.w") || n.starts_with("b.m")));
+        assert!(!rt
+            .iter()
+            .any(|n| n.starts_with("b.q") || n.starts_with("b.w") || n.starts_with("b.m")));
         let ft = names(Variant::ProjectionFlexionTorsion);
-        assert!(!ft.iter().any(|n| n.starts_with("a.r") || n.starts_with("a.f")));
-        assert!(ft.contains(&"elasticity.k6".to_string()) && !ft.contains(&"elasticity.k1".to_string()));
+        assert!(!ft
+            .iter()
+            .any(|n| n.starts_with("a.r") || n.starts_with("a.f")));
+        assert!(
+            ft.contains(&"elasticity.k6".to_string()) && !ft.contains(&"elasticity.k1".to_string())
+        );
         let pl = names(Variant::Planar);
-        for n in ["CRF1", "CRM2", "CRM3", "CTF1", "CTM2", "CTM3", "CP2", "CPR1", "CNF", "friction.status"] {
+        for n in [
+            "CRF1",
+            "CRM2",
+            "CRM3",
+            "CTF1",
+            "CTM2",
+            "CTM3",
+            "CP2",
+            "CPR1",
+            "CNF",
+            "friction.status",
+        ] {
             assert!(pl.contains(&n.to_string()), "{n}");
         }
         assert!(!pl.contains(&"CP1".to_string()) && !pl.contains(&"elasticity.k1".to_string()));

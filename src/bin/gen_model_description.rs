@@ -6,7 +6,11 @@ use connector_fmu::variables::VARIANTS;
 use std::path::PathBuf;
 
 fn main() -> std::io::Result<()> {
-    let dir = PathBuf::from(std::env::args().nth(1).unwrap_or_else(|| "modelDescription".into()));
+    let dir = PathBuf::from(
+        std::env::args()
+            .nth(1)
+            .unwrap_or_else(|| "modelDescription".into()),
+    );
     std::fs::create_dir_all(&dir)?;
     for v in VARIANTS {
         let path = dir.join(format!("{}.xml", v.model_identifier));

@@ -267,8 +267,8 @@ pub fn evaluate(
     let mut p_damp = 0.0;
     let mut p_stop = 0.0;
 
-    for k in 0..6 {
-        if roles[k] == Role::Absent {
+    for (k, role) in roles.iter().enumerate() {
+        if *role == Role::Absent {
             continue;
         }
         let c = g.pos[k];
@@ -276,7 +276,7 @@ pub fn evaluate(
         o.cp[k] = c;
         o.cu[k] = c - st.c0[k];
         o.cv[k] = v;
-        match roles[k] {
+        match role {
             Role::Constrained => {
                 // penalty on the constraint: SLIDE-PLANE x = x0, REVOLUTE φ2 = φ3 = 0
                 let target = if k == 0 { st.c0[0] } else { 0.0 };
@@ -287,7 +287,11 @@ pub fn evaluate(
                 p_damp += cp * v * v;
             }
             Role::Available => {
-                let reference = if p.ref_given[k] { p.ref_value[k] } else { st.c0[k] };
+                let reference = if p.ref_given[k] {
+                    p.ref_value[k]
+                } else {
+                    st.c0[k]
+                };
                 let u_mat = c - reference;
                 o.cef[k] = p.k[k] * u_mat;
                 o.cvf[k] = p.c[k] * v;
@@ -353,7 +357,14 @@ pub fn evaluate(
 /// The force never pulls: it is clipped at zero when the damper would make it adhesive
 /// (SPEC §5). `power` is the dissipation rate (F − k·p)·ṗ ≥ 0, where p is the penetration.
 #[inline]
-fn stop_force(c: Real, v: Real, lower: Real, upper: Real, k: Real, d: Real) -> (Real, i8, Real, Real) {
+fn stop_force(
+    c: Real,
+    v: Real,
+    lower: Real,
+    upper: Real,
+    k: Real,
+    d: Real,
+) -> (Real, i8, Real, Real) {
     if c > upper {
         let pen = c - upper;
         let f = (k * pen + d * v).max(0.0);

@@ -67,10 +67,10 @@ impl FrictionParams {
                 return Err(name);
             }
         }
-        if !(self.k_stick > 0.0) {
+        if self.k_stick.is_nan() || self.k_stick <= 0.0 {
             return Err("friction.stickStiffness (must be > 0)");
         }
-        if !(self.k_stick_r1 > 0.0) {
+        if self.k_stick_r1.is_nan() || self.k_stick_r1 <= 0.0 {
             return Err("friction.stickStiffnessR1 (must be > 0)");
         }
         if self.mu_kinetic > self.mu_static {
@@ -194,7 +194,11 @@ pub fn update(
     let m_tr = p.k_stick_r1 * (pos[2] - st.slip_plastic_r1);
     let slide_rate = rate[0].hypot(rate[1]);
     // effective spin radius ρ = 2R/3 turns the spin rate into a slip speed (1 m when R = 0)
-    let rho = if p.radius > 0.0 { 2.0 / 3.0 * p.radius } else { 1.0 };
+    let rho = if p.radius > 0.0 {
+        2.0 / 3.0 * p.radius
+    } else {
+        1.0
+    };
     let spin_rate = rho * rate[2].abs();
 
     let (f, m) = if !p.enabled() {
@@ -258,10 +262,18 @@ pub fn update(
 #[inline]
 fn return_status(trial: Real, limit: Real, normal: Real) -> (Real, Status) {
     if trial <= limit {
-        let s = if normal > 0.0 { Status::Stick } else { Status::NoNormal };
+        let s = if normal > 0.0 {
+            Status::Stick
+        } else {
+            Status::NoNormal
+        };
         (1.0, s)
     } else {
-        let s = if normal > 0.0 { Status::Slip } else { Status::NoNormal };
+        let s = if normal > 0.0 {
+            Status::Slip
+        } else {
+            Status::NoNormal
+        };
         // trial > limit ≥ 0, so trial > 0
         (limit / trial, s)
     }
@@ -337,7 +349,13 @@ mod tests {
             coupling: 1,
             ..params()
         };
-        let r = update(&p, &FrictionState::default(), [-10.0, 0.0, 0.0], [1.0, 0.0, 1.0], [0.0; 3]);
+        let r = update(
+            &p,
+            &FrictionState::default(),
+            [-10.0, 0.0, 0.0],
+            [1.0, 0.0, 1.0],
+            [0.0; 3],
+        );
         let rho = 2.0 / 3.0 * 0.1;
         let lhs = (r.force[0].powi(2) + r.force[1].powi(2) + (r.force[2] / rho).powi(2)).sqrt();
         assert!((lhs - 5.0).abs() < 1e-12);

@@ -6,7 +6,12 @@ use super::kinematics::{geometry, Branches, ConnectionType, Node, Singular};
 /// The initial state for nodes (a, b): component positions become the initial values
 /// (CU = 0, SLIDE-PLANE x0), angle branches start on their principal values, friction starts
 /// with zero elastic slip, and stop status and dissipation powers follow the configuration.
-pub fn initial_state(ct: ConnectionType, p: &Params, a: &Node, b: &Node) -> Result<State, Singular> {
+pub fn initial_state(
+    ct: ConnectionType,
+    p: &Params,
+    a: &Node,
+    b: &Node,
+) -> Result<State, Singular> {
     let g = geometry(ct, a, b, &Branches::default())?;
     let mut st = State {
         branches: g.branches,

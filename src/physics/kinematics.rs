@@ -88,7 +88,9 @@ impl ConnectionType {
         match self.trans {
             Translational::None => {}
             Translational::ProjectionCartesian => r[..3].copy_from_slice(&[Available; 3]),
-            Translational::SlidePlane => r[..3].copy_from_slice(&[Constrained, Available, Available]),
+            Translational::SlidePlane => {
+                r[..3].copy_from_slice(&[Constrained, Available, Available])
+            }
             Translational::RadialThrust => {
                 r[0] = Available;
                 r[2] = Available;
@@ -393,7 +395,7 @@ pub fn geometry(
         let y = -e2a.dot(&e3b);
         let x = e3a.dot(&e3b);
         let rr = x * x + y * y;
-        if !(rr > 1e-12) {
+        if rr.is_nan() || rr <= 1e-12 {
             return Err(if rr.is_finite() {
                 Singular::RevoluteUndefined
             } else {
@@ -517,10 +519,30 @@ mod tests {
                     let mut e = Vec3::zeros();
                     e[dof % 3] = h;
                     let (ap, am, bp, bm) = match dof / 3 {
-                        0 => (moved(&a, e, Vec3::zeros()), moved(&a, -e, Vec3::zeros()), b, b),
-                        1 => (moved(&a, Vec3::zeros(), e), moved(&a, Vec3::zeros(), -e), b, b),
-                        2 => (a, a, moved(&b, e, Vec3::zeros()), moved(&b, -e, Vec3::zeros())),
-                        _ => (a, a, moved(&b, Vec3::zeros(), e), moved(&b, Vec3::zeros(), -e)),
+                        0 => (
+                            moved(&a, e, Vec3::zeros()),
+                            moved(&a, -e, Vec3::zeros()),
+                            b,
+                            b,
+                        ),
+                        1 => (
+                            moved(&a, Vec3::zeros(), e),
+                            moved(&a, Vec3::zeros(), -e),
+                            b,
+                            b,
+                        ),
+                        2 => (
+                            a,
+                            a,
+                            moved(&b, e, Vec3::zeros()),
+                            moved(&b, -e, Vec3::zeros()),
+                        ),
+                        _ => (
+                            a,
+                            a,
+                            moved(&b, Vec3::zeros(), e),
+                            moved(&b, Vec3::zeros(), -e),
+                        ),
                     };
                     let gp = geometry(ct, &ap, &bp, &g.branches).expect("near a regular point");
                     let gm = geometry(ct, &am, &bm, &g.branches).expect("near a regular point");
@@ -543,9 +565,15 @@ mod tests {
     fn centred_triad_properties() {
         let mut rng = Lcg(11);
         for _ in 0..200 {
-            let ra = *Quat::from_scaled_axis(rng.vec(2.0)).to_rotation_matrix().matrix();
-            let rb = *Quat::from_scaled_axis(rng.vec(2.0)).to_rotation_matrix().matrix();
-            let Ok(c) = centred(&ra, &rb, 0.0) else { continue };
+            let ra = *Quat::from_scaled_axis(rng.vec(2.0))
+                .to_rotation_matrix()
+                .matrix();
+            let rb = *Quat::from_scaled_axis(rng.vec(2.0))
+                .to_rotation_matrix()
+                .matrix();
+            let Ok(c) = centred(&ra, &rb, 0.0) else {
+                continue;
+            };
             let e3: Vec3 = c.triad.column(2).into();
             let bis = (ra.column(2) + rb.column(2)).normalize();
             assert!((e3 - bis).norm() < 1e-12, "e3 is the bisector");
@@ -584,11 +612,21 @@ mod tests {
             for j in 0..6 {
                 let mut e = Vec3::zeros();
                 e[j % 3] = h;
-                let rot = |q: Quat, d: Vec3| *(Quat::from_scaled_axis(d) * q).to_rotation_matrix().matrix();
+                let rot = |q: Quat, d: Vec3| {
+                    *(Quat::from_scaled_axis(d) * q)
+                        .to_rotation_matrix()
+                        .matrix()
+                };
                 let (p, m) = if j < 3 {
-                    (centred(&rot(qa, e), &rb, c.angles.z), centred(&rot(qa, -e), &rb, c.angles.z))
+                    (
+                        centred(&rot(qa, e), &rb, c.angles.z),
+                        centred(&rot(qa, -e), &rb, c.angles.z),
+                    )
                 } else {
-                    (centred(&ra, &rot(qb, e), c.angles.z), centred(&ra, &rot(qb, -e), c.angles.z))
+                    (
+                        centred(&ra, &rot(qb, e), c.angles.z),
+                        centred(&ra, &rot(qb, -e), c.angles.z),
+                    )
                 };
                 let (p, m) = (p.expect("regular"), m.expect("regular"));
                 let de = (p.triad - m.triad) / (2.0 * h);
@@ -608,7 +646,9 @@ mod tests {
             for _ in 0..20 {
                 let a = rng.node(1.0);
                 let b = rng.node(1.0);
-                let Ok(g0) = geometry(ct, &a, &b, &Branches::default()) else { continue };
+                let Ok(g0) = geometry(ct, &a, &b, &Branches::default()) else {
+                    continue;
+                };
                 let rig = Quat::from_scaled_axis(rng.vec(2.0));
                 let shift = rng.vec(3.0);
                 let tr = |n: &Node| Node {
@@ -618,7 +658,11 @@ mod tests {
                 };
                 let g1 = geometry(ct, &tr(&a), &tr(&b), &g0.branches).expect("regular");
                 for k in 0..6 {
-                    assert!((g1.pos[k] - g0.pos[k]).abs() < 1e-12, "{ct:?} comp {}", k + 1);
+                    assert!(
+                        (g1.pos[k] - g0.pos[k]).abs() < 1e-12,
+                        "{ct:?} comp {}",
+                        k + 1
+                    );
                 }
             }
         }

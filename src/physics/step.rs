@@ -76,7 +76,7 @@ pub fn substeps(p: &Params, ra: &Rates, rb: &Rates, h: Real) -> Result<u32, Step
         1.0
     };
     let n = rot.max(time).ceil().max(1.0);
-    if !(n <= MAX_SUBSTEPS as Real) {
+    if n.is_nan() || n > MAX_SUBSTEPS as Real {
         return Err(StepError::TooManySubsteps(n));
     }
     Ok(n as u32)
@@ -101,10 +101,8 @@ pub fn advance(
     ct: ConnectionType,
     p: &Params,
     st: &State,
-    a0: &Node,
-    b0: &Node,
-    ra: &Rates,
-    rb: &Rates,
+    (a0, ra): (&Node, &Rates),
+    (b0, rb): (&Node, &Rates),
     h: Real,
 ) -> Result<Advanced, StepError> {
     let n = substeps(p, ra, rb, h)?;
