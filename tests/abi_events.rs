@@ -1,0 +1,61 @@
+//! logEvents through the C ABI: stop and stick/slip transitions are logged when logging is on,
+//! and nothing is logged for them when it is off.
+
+mod common;
+use common::Fmu;
+use connector_fmu::fmi2::exports::fmi2SetDebugLogging;
+use connector_fmu::fmi2::types::fmi2Status;
+use connector_fmu::variables::Variant;
+
+/// Planar: b slides along y into the upper stop and back while friction sticks and slips.
+fn drive(f: &Fmu) {
+    f.set_real_if("stop.upper2", 0.01);
+    f.set_real_if("stop.stiffness", 1e4);
+    f.set_real_if("friction.muStatic", 0.5);
+    f.set_real_if("friction.Fint", 10.0);
+    f.set_real_if("friction.stickStiffness", 1e4);
+    f.init();
+    let h = 1e-3;
+    for i in 0..60 {
+        let t = i as f64 * h;
+        // out to y = 0.02 and back at 1 m/s, position and velocity consistent
+        let (y, v) = if t < 0.02 { (t, 1.0) } else { (0.04 - t, -1.0) };
+        f.set_real_if("b.r[2]", y);
+        f.set_real_if("b.v[2]", v);
+        assert_eq!(f.step(t, h), fmi2Status::OK, "{:?}", f.log());
+    }
+}
+
+#[test]
+fn stop_and_friction_transitions_are_logged_under_log_events() {
+    let f = Fmu::with_logging(Variant::Planar, true);
+    let cat = std::ffi::CString::new("logEvents").expect("no NUL");
+    let cats = [cat.as_ptr()];
+    assert_eq!(fmi2SetDebugLogging(f.c, 1, 1, cats.as_ptr()), fmi2Status::OK);
+    let before = f.log_len();
+    drive(&f);
+    let log = f.log().split_off(before);
+    let events: Vec<&str> = log
+        .iter()
+        .filter(|l| l.category == "logEvents")
+        .map(|l| l.message.as_str())
+        .collect();
+    assert!(
+        events.iter().any(|m| m.contains("component 2 at the upper stop (was free)")),
+        "{events:?}"
+    );
+    assert!(
+        events.iter().any(|m| m.contains("component 2 free (was at the upper stop)")),
+        "{events:?}"
+    );
+    assert!(events.iter().any(|m| m.contains("sliding friction Slip (was Stick)")), "{events:?}");
+    // only logEvents is on since fmi2SetDebugLogging: no call traces after it
+    assert!(log.iter().all(|l| l.category != "logAll"));
+}
+
+#[test]
+fn no_event_messages_when_logging_is_off() {
+    let f = Fmu::with_logging(Variant::Planar, false);
+    drive(&f);
+    assert!(f.log().is_empty(), "{:?}", f.log());
+}
