@@ -14,10 +14,11 @@ Conventions (SPEC section 3):
 
 Node loads are obtained by virtual work (SPEC section 3): the load on a node is
 -sum_i F_i dc_i/d(node motion).  The gradients dc_i/d(node motion) are taken by
-central finite differences of this reference kinematics (step h = 1e-6), which
-keeps the reference free of any hand-derived (and possibly shared) gradient
-formula.  Error of that difference: truncation ~ h^2 |c'''| / 6 ~ 1e-13 and
-round-off ~ eps |c| / h ~ 1e-10 for O(1) components, i.e. ~1e-10 relative.
+fourth-order central finite differences of this reference kinematics (step
+h = 5e-4), which keeps the reference free of any hand-derived (and possibly
+shared) gradient formula.  Error of that difference: truncation
+~ h^4 |c^(5)| / 30 ~ 1e-13 and round-off ~ 1.5 eps |c| / h ~ 1e-12 for O(1)
+components (|d| <= ~2.5 m, angles <= 2.5 rad), i.e. ~1e-12 relative.
 """
 
 from __future__ import annotations
@@ -334,8 +335,9 @@ def perturb(pose, node, kind, j, eps):
     return p
 
 
-def gradients(variant, pose, prev=None, h=1e-6):
-    """d(component)/d(node motion) by central differences.
+def gradients(variant, pose, prev=None, h=5e-4):
+    """d(component)/d(node motion) by the fourth-order central difference
+    (-c(2h) + 8 c(h) - 8 c(-h) + c(-2h)) / 12h.
 
     Returns dict name -> (12,) array over MOTIONS.  The branch of every
     perturbed evaluation is continued from the unperturbed value.
@@ -344,10 +346,9 @@ def gradients(variant, pose, prev=None, h=1e-6):
     cont = {k: base[k] for k in ("CPR1", "CPR3") if k in base}
     G = {k: np.zeros(12) for k in base}
     for m, (node, kind, j) in enumerate(MOTIONS):
-        plus = positions(variant, perturb(pose, node, kind, j, h), cont)
-        minus = positions(variant, perturb(pose, node, kind, j, -h), cont)
+        c = {s: positions(variant, perturb(pose, node, kind, j, s * h), cont) for s in (2, 1, -1, -2)}
         for k in base:
-            G[k][m] = (plus[k] - minus[k]) / (2.0 * h)
+            G[k][m] = (-c[2][k] + 8.0 * c[1][k] - 8.0 * c[-1][k] + c[-2][k]) / (12.0 * h)
     return G
 
 
@@ -359,7 +360,7 @@ def motion_rates(pose):
     )
 
 
-def velocities(variant, pose, prev=None, h=1e-6):
+def velocities(variant, pose, prev=None, h=5e-4):
     """Component rates along the velocity inputs (relative velocities CV)."""
     G = gradients(variant, pose, prev, h)
     rates = motion_rates(pose)
@@ -383,19 +384,20 @@ def node_loads(G, forces):
 # --------------------------------------------------------------------------
 
 
-def connector(variant, pose, init_pose, params, h=1e-6):
+def connector(variant, pose, init_pose, params, h=5e-4, prev=None):
     """Expected FMU outputs at pose after initialization at init_pose.
 
     params: dict of FMU parameter names (elasticity.k<k>, damping.c<k>,
     reference.given<k>, reference.value<k>, constraint.*) -> values; missing
-    entries are 0 / False.  Only branch-safe poses are assumed (the branch is
-    continued from the initial pose).
+    entries are 0 / False.  The torsion branch is continued from prev
+    ({'CPR3': beta} or {'CPR1': alpha}), by default from the initial pose.
 
     Returns dict output name -> float, or (3,) arrays for node loads, plus
     'energy.stored'.
     """
     P0 = positions(variant, init_pose)
-    prev = {k: P0[k] for k in ("CPR1", "CPR3") if k in P0}
+    if prev is None:
+        prev = {k: P0[k] for k in ("CPR1", "CPR3") if k in P0}
     P = positions(variant, pose, prev)
     G = gradients(variant, pose, prev, h)
     rates = motion_rates(pose)
