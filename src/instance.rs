@@ -633,7 +633,9 @@ impl ModelInstance {
                 write_node(&mut self.s.inputs[0], &adv.a);
                 write_node(&mut self.s.inputs[1], &adv.b);
                 self.s.input_der_set = [[false; 13]; 2];
-                self.cache = Some(adv.outputs);
+                // Outputs are a function of (inputs, committed state) alone, evaluated when
+                // read: so a restored FMU state reports exactly what was read when it was saved.
+                self.cache = None;
                 if self.wants(Category::Events) {
                     self.log_transitions(&before, &adv.state);
                 }

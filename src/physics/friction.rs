@@ -258,9 +258,17 @@ pub fn update(
     }
 }
 
+/// Relative band around the friction limit that counts as "on the limit".
+pub const ON_LIMIT: Real = 1e-9;
+
 /// Scale factor onto the limit and the status for a trial magnitude.
 #[inline]
 fn return_status(trial: Real, limit: Real, normal: Real) -> (Real, Status) {
+    // On the limit within round-off counts as slip: re-evaluating the connector at the point
+    // where a slip step ended puts the trial force back on the limit, and that is still slip.
+    if normal > 0.0 && trial >= limit * (1.0 - ON_LIMIT) && trial <= limit {
+        return (1.0, Status::Slip);
+    }
     if trial <= limit {
         let s = if normal > 0.0 {
             Status::Stick

@@ -181,8 +181,18 @@ impl Default for Branches {
 
 /// Below this radius (m) RADIAL-THRUST keeps its last radial direction.
 pub const R_MIN: Real = 1e-9;
-/// Flexion angles closer than this to π (rad) are singular and refused.
-pub const ALPHA_MAX_GAP: Real = 1e-6;
+/// Flexion angles closer than this to π (rad) are refused: near the folded configuration
+/// the torsion β loses accuracy like ε/(1 + cos α) and the node moments grow like
+/// 1/cos(α/2) (2e3 at this gap), so the connector stops being meaningful before it is NaN.
+pub const ALPHA_MAX_GAP: Real = 1e-3;
+
+/// Total flexion α = ∠(e3a, e3b) of two orientations.
+#[inline]
+pub fn flexion(qa: &Quat, qb: &Quat) -> Real {
+    let e3a = qa * Vec3::z();
+    let e3b = qb * Vec3::z();
+    e3a.cross(&e3b).norm().atan2(e3a.dot(&e3b))
+}
 
 /// A configuration the kinematics cannot measure.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -3,8 +3,9 @@
 //! follows in internal substeps, and the dissipated energies are integrated.
 
 use super::connector::{evaluate, Outputs, Params, State};
-use super::kinematics::{ConnectionType, Node, Singular};
+use super::kinematics::{flexion, ConnectionType, Node, Singular, ALPHA_MAX_GAP};
 use super::math::{Quat, Real, Vec3};
+use std::f64::consts::PI;
 
 /// Rates along which a node is extrapolated over a step (all in W).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -109,11 +110,24 @@ pub fn advance(
     let dt = h / n as Real;
     let mut s = *st;
     let mut last = None;
+    let mut alpha_prev = flexion(&a0.q, &b0.q);
     for j in 1..=n {
         // time as t0 + j·dt, never accumulated
         let tau = h * j as Real / n as Real;
         let a = extrapolate(a0, ra, tau);
         let b = extrapolate(b0, rb, tau);
+        if ct.centred() {
+            // α changes no faster than the relative angular velocity, so a substep whose ends
+            // are both regular can still pass through the folded configuration between them:
+            // refuse when the two ends are not far enough from π − gap for that to be ruled out.
+            let alpha = flexion(&a.q, &b.q);
+            let w_rel = (rb.dth - ra.dth).norm() + (rb.dw - ra.dw).norm() * tau;
+            let room = 2.0 * (PI - ALPHA_MAX_GAP) - alpha_prev - alpha;
+            if room < w_rel * dt {
+                return Err(StepError::Singular(Singular::FlexionNearPi(alpha.max(alpha_prev)), tau));
+            }
+            alpha_prev = alpha;
+        }
         let (mut o, mut next) =
             evaluate(ct, p, &s, &a, &b).map_err(|e| StepError::Singular(e, tau))?;
         // trapezoidal rule on the dissipation powers
