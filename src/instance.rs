@@ -282,7 +282,9 @@ impl ModelInstance {
                 "fmi2ExitInitializationMode: invalid parameter {name}"
             ))
         })?;
-        let (a, b) = self.nodes()?;
+        let (a, b) = self
+            .nodes()
+            .map_err(|e| FmuError::error(format!("fmi2ExitInitializationMode: {}", e.message)))?;
         let st = initial_state(self.ct, &self.s.params, &a, &b)
             .map_err(|e| singular_error("fmi2ExitInitializationMode", e))?;
         self.s.state = st;
@@ -451,8 +453,8 @@ impl ModelInstance {
         } else {
             self.s.state
         };
-        let (o, _) =
-            evaluate(self.ct, &self.s.params, &st, &a, &b).map_err(|e| singular_error(fname, e))?;
+        let (o, _) = evaluate(self.ct, &self.s.params, &st, &a, &b, false)
+            .map_err(|e| singular_error(fname, e))?;
         if !crate::physics::step::outputs_finite(&o) {
             return Err(FmuError::error(format!(
                 "{fname}: the outputs at these inputs are not finite"
@@ -721,16 +723,23 @@ impl ModelInstance {
         Ok(self.s.clone())
     }
 
+    /// Refuses an FMU state made by an instance of another variant (`fname` names the caller):
+    /// its parameters and inputs follow another variable table.
+    pub fn own_state(&self, s: &Snapshot, fname: &str) -> FmuResult<()> {
+        if s.variant == self.s.variant {
+            return Ok(());
+        }
+        Err(FmuError::error(format!(
+            "{fname}: the state belongs to {}, not {}; refused",
+            s.variant.spec().model_identifier,
+            self.table.spec.model_identifier
+        )))
+    }
+
     /// fmi2SetFMUstate.
     pub fn set_state(&mut self, s: &Snapshot) -> FmuResult<()> {
         self.allowed(Call::Lifecycle, "fmi2SetFMUstate")?;
-        if s.variant != self.s.variant {
-            return Err(FmuError::error(format!(
-                "fmi2SetFMUstate: the state belongs to {}, not {}; state not restored",
-                s.variant.spec().model_identifier,
-                self.table.spec.model_identifier
-            )));
-        }
+        self.own_state(s, "fmi2SetFMUstate")?;
         self.s = s.clone();
         self.cache = None;
         Ok(())
@@ -745,7 +754,7 @@ fn nodes_of(inputs: &[NodeInputs; 2]) -> FmuResult<(Node, Node)> {
         let q = quat_from_wxyz(u[3], u[4], u[5], u[6]).ok_or_else(|| {
                 let nm = ["a", "b"][n];
                 FmuError::error(format!(
-                    "orientation {nm}.q = ({}, {}, {}, {}) is not a rotation: its norm is below 1e-6 or not finite",
+                    "orientation {nm}.q = ({:?}, {:?}, {:?}, {:?}) is not a rotation: its norm is below 1e-6 or not finite",
                     u[3], u[4], u[5], u[6]
                 ))
             })?;
@@ -1017,12 +1026,14 @@ impl ModelInstance {
             out.iter_mut().for_each(|x| *x = 0.0);
             return Ok(());
         }
-        let eps = 1e-6 * scale / dmax;
+        // J·δ is linear in δ: difference along δ/max|δ| and scale back by max|δ|, so that
+        // neither huge nor denormal seeds make ε overflow or underflow (regression 003)
+        let eps = 1e-6 * scale;
         let shifted = |sign: Real| {
             let mut u = self.s.inputs;
             for (&vr, &d) in knowns.iter().zip(dknown) {
                 if let Some(Field::Input { node, idx }) = self.table.get(vr).map(|v| v.field) {
-                    u[node as usize][idx as usize] += sign * eps * d;
+                    u[node as usize][idx as usize] += sign * eps * (d / dmax);
                 }
             }
             u
@@ -1030,8 +1041,16 @@ impl ModelInstance {
         let plus = self.evaluate_at(&shifted(1.0), F)?;
         let minus = self.evaluate_at(&shifted(-1.0), F)?;
         for (&vr, slot) in unknowns.iter().zip(out.iter_mut()) {
-            let f = self.var(vr, "Real", F)?.field;
-            *slot = (read_output(&plus, f) - read_output(&minus, f)) / (2.0 * eps);
+            let v = self.var(vr, "Real", F)?;
+            let d =
+                dmax * ((read_output(&plus, v.field) - read_output(&minus, v.field)) / (2.0 * eps));
+            if !d.is_finite() {
+                return Err(FmuError::error(format!(
+                    "{F}: the derivative of {} along dvKnown is not finite (the seed's size {dmax:e} takes it beyond the range of a double)",
+                    v.name
+                )));
+            }
+            *slot = d;
         }
         Ok(())
     }

@@ -170,6 +170,11 @@ pub fn encode(t: &Table, s: &Snapshot) -> Vec<u8> {
         fr.slip_acc,
         fr.slip_acc_r1,
         fr.dissipated,
+        fr.mu_rate[0],
+        fr.mu_rate[1],
+        fr.force[0],
+        fr.force[1],
+        fr.force[2],
     ]);
     w.b(fr.status as u8);
     w.b(fr.status_r1 as u8);
@@ -258,9 +263,14 @@ pub fn decode(t: &Table, bytes: &[u8]) -> Result<Snapshot, String> {
             },
         }
     }
-    params
-        .check(&t.spec.connection.roles())
-        .map_err(|name| format!("invalid parameter {name}"))?;
+    // Cross-parameter rules (stop.lower ≤ stop.upper, μ_k ≤ μ_s, coupling needs R > 0) are
+    // checked at fmi2ExitInitializationMode; before it the setters accept each valid value on
+    // its own, so a state saved then may legitimately break them (regression 004).
+    if !matches!(mode, Mode::Instantiated | Mode::InitializationMode) {
+        params
+            .check(&t.spec.connection.roles())
+            .map_err(|name| format!("invalid parameter {name}"))?;
+    }
     for v in &t.vars {
         if let Field::Input { .. } = v.field {
             write_real(&mut params, &mut inputs, v.field, r.f_any()?)
@@ -296,7 +306,10 @@ pub fn decode(t: &Table, bytes: &[u8]) -> Result<Snapshot, String> {
             x => return Err(format!("stop status {x} is not -1, 0 or 1")),
         };
     }
-    let [s0, s1, sr, acc, acc_r, fdiss] = r.fs::<6>("friction state")?;
+    let [s0, s1, sr, acc, acc_r, fdiss, mu0, mu1, f2, f3, m1] = r.fs::<11>("friction state")?;
+    if mu0 < 0.0 || mu1 < 0.0 {
+        return Err("friction slip speed is negative".into());
+    }
     let (st0, st1) = (status(r.b()?)?, status(r.b()?)?);
     let [damping, stops, p0, p1] = r.fs::<4>("energy")?;
     if r.at != body.len() {
@@ -327,6 +340,8 @@ pub fn decode(t: &Table, bytes: &[u8]) -> Result<Snapshot, String> {
                 status: st0,
                 status_r1: st1,
                 dissipated: fdiss,
+                mu_rate: [mu0, mu1],
+                force: [f2, f3, m1],
             },
             dissipated: Energy {
                 stored: 0.0,

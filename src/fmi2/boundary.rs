@@ -528,6 +528,7 @@ pub(crate) fn copy_serialized(
     buf: &mut [u8],
     fname: &str,
 ) -> FmuResult<()> {
+    inst.own_state(s, fname)?;
     let bytes = crate::instance::serialize(inst.table, s);
     let size = buf.len();
     let dst = buf.get_mut(..bytes.len()).ok_or_else(|| {

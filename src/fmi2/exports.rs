@@ -354,7 +354,10 @@ pub extern "C" fn fmi2SerializedFMUstateSize(
         let state = unsafe { state_ref(FMUstate, F) };
         // SAFETY: size is NULL (refused) or writable.
         let out = unsafe { out_ref(size, "size", F) };
-        let len = state.map(|s| serialize(inst.table, s).len());
+        let len = state.and_then(|s| {
+            inst.own_state(s, F)
+                .map(|()| serialize(inst.table, s).len())
+        });
         len.and_then(|n| out.map(|o| *o = n)).to_status(inst)
     })
 }

@@ -250,6 +250,8 @@ pub struct Outputs {
 /// Outputs at nodes (a, b) given the committed state, and the state these imply
 /// (branches, stop status, friction return map) for the caller to commit.
 ///
+/// `stepping`: the evaluation ends a substep along the path (friction takes its μ afresh)
+/// rather than reading the outputs at the current inputs (see `friction::update`).
 /// Dissipated energies in the result are the committed ones; `advance` accumulates them.
 pub fn evaluate(
     ct: ConnectionType,
@@ -257,6 +259,7 @@ pub fn evaluate(
     st: &State,
     a: &Node,
     b: &Node,
+    stepping: bool,
 ) -> Result<(Outputs, State), Singular> {
     let roles = ct.roles();
     let g = geometry(ct, a, b, &st.branches)?;
@@ -320,6 +323,7 @@ pub fn evaluate(
             [o.crf[0], o.crf[4], o.crf[5]],
             [o.cp[1], o.cp[2], o.cp[3]],
             [o.cv[1], o.cv[2], o.cv[3]],
+            stepping,
         );
         o.csf[1] = fr.force[0];
         o.csf[2] = fr.force[1];

@@ -123,6 +123,11 @@ pub struct FrictionState {
     pub status_r1: Status,
     /// Energy dissipated by friction (J).
     pub dissipated: Real,
+    /// Slip speeds (m/s) at which μ was taken in the last return map, sliding (or coupled)
+    /// and spin; 0 (μ = μ_s) when the effect entered it sticking.
+    pub mu_rate: [Real; 2],
+    /// Friction force and moment of the last return map (f2, f3, m1).
+    pub force: [Real; 3],
 }
 
 /// Friction outputs (SPEC §5).
@@ -177,12 +182,19 @@ pub fn normal_loads(p: &FrictionParams, f1: Real, m2: Real, m3: Real) -> (Real, 
 /// Return map of both friction effects from the committed state `st`.
 ///
 /// `reaction` = (f1, m2, m3), `pos` = (y, z, α), `rate` = (ẏ, ż, α̇).
+///
+/// μ: while an effect's committed status is stick, μ = μ_s (breakaway happens at μ_s N, and
+/// the elastic motion of a stuck stick spring does not lower μ and make the contact chatter);
+/// while it slips, μ = μ(relative slip speed). `stepping` takes that choice afresh (a substep
+/// of the path); otherwise the speed of the last committed return map is reused, so that
+/// evaluating the connector again where a step ended reproduces that step's forces.
 pub fn update(
     p: &FrictionParams,
     st: &FrictionState,
     reaction: [Real; 3],
     pos: [Real; 3],
     rate: [Real; 3],
+    stepping: bool,
 ) -> FrictionResult {
     let (f_nc, m_nr1) = normal_loads(p, reaction[0], reaction[1], reaction[2]);
     let mut next = *st;
@@ -192,14 +204,19 @@ pub fn update(
         p.k_stick * (pos[1] - st.slip_plastic[1]),
     ];
     let m_tr = p.k_stick_r1 * (pos[2] - st.slip_plastic_r1);
-    let slide_rate = rate[0].hypot(rate[1]);
     // effective spin radius ρ = 2R/3 turns the spin rate into a slip speed (1 m when R = 0)
     let rho = if p.radius > 0.0 {
         2.0 / 3.0 * p.radius
     } else {
         1.0
     };
-    let spin_rate = rho * rate[2].abs();
+    let slide = rate[0].hypot(rate[1]);
+    let spin = rho * rate[2].abs();
+    let speed_for = |status: Status, v: Real, committed: Real| match (stepping, status) {
+        (true, Status::Slip) => v,
+        (true, _) => 0.0,
+        (false, _) => committed,
+    };
 
     let (f, m) = if !p.enabled() {
         // friction off: no force, slip follows the motion, no stored energy
@@ -207,54 +224,56 @@ pub fn update(
         next.slip_plastic_r1 = pos[2];
         next.status = Status::NoNormal;
         next.status_r1 = Status::NoNormal;
-        ([0.0; 2], 0.0)
+        next.mu_rate = [0.0; 2];
+        next.force = [0.0; 3];
+        return FrictionResult {
+            force: [0.0; 3],
+            out: outputs(&next, f_nc, m_nr1, 0.0, 0.0),
+            stored: 0.0,
+            state: next,
+        };
     } else if p.coupling == 1 {
         // ellipsoidal limit surface |(f2, f3, m1/ρ)| ≤ μ F_NC, radial return in that space
-        let mu = p.mu(slide_rate.hypot(spin_rate));
-        let limit = (mu * f_nc).min(p.max_force);
-        let t = [f_tr[0], f_tr[1], m_tr / rho];
-        let norm = (t[0] * t[0] + t[1] * t[1] + t[2] * t[2]).sqrt();
+        let v = speed_for(st.status, slide.hypot(spin), st.mu_rate[0]);
+        next.mu_rate = [v, v];
+        let limit = (p.mu(v) * f_nc).min(p.max_force);
+        let norm = (f_tr[0] * f_tr[0] + f_tr[1] * f_tr[1] + (m_tr / rho) * (m_tr / rho)).sqrt();
         let (scale, status) = return_status(norm, limit, f_nc);
-        let f = [f_tr[0] * scale, f_tr[1] * scale];
-        let m = m_tr * scale;
-        slip_update(&mut next, p, f_tr, f, m_tr, m);
         next.status = status;
         next.status_r1 = status;
-        (f, m)
+        ([f_tr[0] * scale, f_tr[1] * scale], m_tr * scale)
     } else {
-        // sliding: radial return in the 2–3 plane
-        let limit = (p.mu(slide_rate) * f_nc).min(p.max_force);
+        // sliding: radial return in the 2–3 plane; spin: scalar return
+        let v = speed_for(st.status, slide, st.mu_rate[0]);
+        let v_r = speed_for(st.status_r1, spin, st.mu_rate[1]);
+        next.mu_rate = [v, v_r];
+        let limit = (p.mu(v) * f_nc).min(p.max_force);
         let (scale, status) = return_status(f_tr[0].hypot(f_tr[1]), limit, f_nc);
-        let f = [f_tr[0] * scale, f_tr[1] * scale];
-        // spin: scalar return
-        let limit_r = p.mu(spin_rate) * m_nr1;
-        let (scale_r, status_r) = return_status(m_tr.abs(), limit_r, m_nr1);
-        let m = m_tr * scale_r;
-        slip_update(&mut next, p, f_tr, f, m_tr, m);
+        let (scale_r, status_r) = return_status(m_tr.abs(), p.mu(v_r) * m_nr1, m_nr1);
         next.status = status;
         next.status_r1 = status_r;
-        (f, m)
+        ([f_tr[0] * scale, f_tr[1] * scale], m_tr * scale_r)
     };
-
+    slip_update(&mut next, p, f_tr, f, m_tr, m);
     let csfc = f[0].hypot(f[1]);
     FrictionResult {
         force: [f[0], f[1], m],
-        out: FrictionOut {
-            cnf: f_nc,
-            cnm1: m_nr1,
-            csfc,
-            csmc1: m.abs(),
-            slip: next.slip_acc,
-            slip_r1: next.slip_acc_r1,
-            status: next.status,
-            status_r1: next.status_r1,
-        },
-        stored: if p.enabled() {
-            0.5 * (csfc * csfc / p.k_stick + m * m / p.k_stick_r1)
-        } else {
-            0.0
-        },
+        out: outputs(&next, f_nc, m_nr1, csfc, m.abs()),
+        stored: 0.5 * (csfc * csfc / p.k_stick + m * m / p.k_stick_r1),
         state: next,
+    }
+}
+
+fn outputs(st: &FrictionState, cnf: Real, cnm1: Real, csfc: Real, csmc1: Real) -> FrictionOut {
+    FrictionOut {
+        cnf,
+        cnm1,
+        csfc,
+        csmc1,
+        slip: st.slip_acc,
+        slip_r1: st.slip_acc_r1,
+        status: st.status,
+        status_r1: st.status_r1,
     }
 }
 
@@ -304,8 +323,14 @@ fn slip_update(
     next.slip_plastic_r1 += ds_r;
     next.slip_acc += ds[0].hypot(ds[1]);
     next.slip_acc_r1 += ds_r.abs();
-    // the returned force does work on the plastic slip: dissipated, never negative
-    next.dissipated += f[0] * ds[0] + f[1] * ds[1] + m * ds_r;
+    // Work of the friction force on the plastic slip, by the trapezoidal rule between the
+    // last committed force and this one: with the stick-spring energy ½f²/k this closes
+    // work = Δstored + dissipated exactly for the trapezoidal work of the force, also where μ
+    // changes from step to step (static → kinetic). Never negative: a dissipation.
+    let f0 = &next.force;
+    let w = 0.5 * ((f0[0] + f[0]) * ds[0] + (f0[1] + f[1]) * ds[1] + (f0[2] + m) * ds_r);
+    next.dissipated += w.max(0.0);
+    next.force = [f[0], f[1], m];
 }
 
 #[cfg(test)]
@@ -340,10 +365,17 @@ mod tests {
     fn stick_then_slip_saturates_at_mu_fn() {
         let p = params();
         let st = FrictionState::default();
-        let r = update(&p, &st, [-10.0, 0.0, 0.0], [1e-4, 0.0, 0.0], [0.0; 3]);
+        let r = update(&p, &st, [-10.0, 0.0, 0.0], [1e-4, 0.0, 0.0], [0.0; 3], true);
         assert_eq!(r.out.status, Status::Stick);
         assert!((r.force[0] - 1.0).abs() < 1e-12);
-        let r = update(&p, &r.state, [-10.0, 0.0, 0.0], [1e-2, 0.0, 0.0], [0.0; 3]);
+        let r = update(
+            &p,
+            &r.state,
+            [-10.0, 0.0, 0.0],
+            [1e-2, 0.0, 0.0],
+            [0.0; 3],
+            true,
+        );
         assert_eq!(r.out.status, Status::Slip);
         assert!((r.out.csfc - 0.5 * 10.0).abs() < 1e-12);
         // plastic slip: 1e-2 − 5/1e4
@@ -363,6 +395,7 @@ mod tests {
             [-10.0, 0.0, 0.0],
             [1.0, 0.0, 1.0],
             [0.0; 3],
+            true,
         );
         let rho = 2.0 / 3.0 * 0.1;
         let lhs = (r.force[0].powi(2) + r.force[1].powi(2) + (r.force[2] / rho).powi(2)).sqrt();

@@ -20,7 +20,7 @@ pub fn initial_state(
     };
     st.friction.slip_plastic = [g.pos[1], g.pos[2]];
     st.friction.slip_plastic_r1 = g.pos[3];
-    let (_, next) = evaluate(ct, p, &st, a, b)?;
+    let (_, next) = evaluate(ct, p, &st, a, b, false)?;
     st.stop_status = next.stop_status;
     st.friction.status = next.friction.status;
     st.friction.status_r1 = next.friction.status_r1;

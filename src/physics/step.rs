@@ -124,12 +124,15 @@ pub fn advance(
             let w_rel = (rb.dth - ra.dth).norm() + (rb.dw - ra.dw).norm() * tau;
             let room = 2.0 * (PI - ALPHA_MAX_GAP) - alpha_prev - alpha;
             if room < w_rel * dt {
-                return Err(StepError::Singular(Singular::FlexionNearPi(alpha.max(alpha_prev)), tau));
+                return Err(StepError::Singular(
+                    Singular::FlexionNearPi(alpha.max(alpha_prev)),
+                    tau,
+                ));
             }
             alpha_prev = alpha;
         }
         let (mut o, mut next) =
-            evaluate(ct, p, &s, &a, &b).map_err(|e| StepError::Singular(e, tau))?;
+            evaluate(ct, p, &s, &a, &b, true).map_err(|e| StepError::Singular(e, tau))?;
         // trapezoidal rule on the dissipation powers
         next.dissipated.damping += 0.5 * (s.power[0] + next.power[0]) * dt;
         next.dissipated.stops += 0.5 * (s.power[1] + next.power[1]) * dt;
