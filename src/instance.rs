@@ -309,23 +309,12 @@ impl ModelInstance {
     }
 
     /// Looks a VR up and checks its type, naming the function in errors.
-    fn var(&self, vr: u32, want: &str, fname: &str) -> FmuResult<&'static VarSpec> {
-        let v = self
-            .table
-            .get(vr)
-            .ok_or_else(|| FmuError::error(format!("{fname}: unknown value reference {vr}")))?;
-        let ty = match v.start {
-            Start::Real(_) => "Real",
-            Start::Integer(_) => "Integer",
-            Start::Boolean(_) => "Boolean",
-        };
-        if ty != want {
-            return Err(FmuError::error(format!(
-                "{fname}: variable {} (vr {vr}) is of type {ty}, not {want}",
-                v.name
-            )));
+    #[inline]
+    fn var(&self, vr: u32, want: Ty, fname: &str) -> FmuResult<&'static VarSpec> {
+        match self.table.get(vr) {
+            Some(v) if Ty::of(&v.start) == want => Ok(v),
+            found => Err(var_error(vr, found, want, fname)),
         }
-        Ok(v)
     }
 
     /// Checks that `v` may be set in the current mode.
@@ -357,16 +346,36 @@ impl ModelInstance {
         &mut self,
         vrs: &[u32],
         values: &[T],
-        ty: &str,
+        ty: Ty,
         fname: &str,
         write: impl Fn(&mut Params, &mut [NodeInputs; 2], Field, T) -> Result<(), &'static str>,
     ) -> FmuResult<()> {
         self.allowed(Call::Set, fname)?;
+        let mut touches_params = false;
+        for &vr in vrs {
+            let v = self.var(vr, ty, fname)?;
+            self.settable(v, fname)?;
+            touches_params |= v.causality == Causality::Parameter;
+        }
+        if !touches_params {
+            // the per-step path: node inputs only, no parameter copy or check
+            let mut inputs = self.s.inputs;
+            for (&vr, &x) in vrs.iter().zip(values) {
+                let v = self.var(vr, ty, fname)?;
+                write(&mut self.s.params, &mut inputs, v.field, x).map_err(|why| {
+                    FmuError::error(format!("{fname}: {} {why}; value not set", v.name))
+                })?;
+            }
+            if inputs != self.s.inputs {
+                self.s.inputs = inputs;
+                self.cache = None;
+            }
+            return Ok(());
+        }
         let mut params = self.s.params;
         let mut inputs = self.s.inputs;
         for (&vr, &x) in vrs.iter().zip(values) {
             let v = self.var(vr, ty, fname)?;
-            self.settable(v, fname)?;
             write(&mut params, &mut inputs, v.field, x).map_err(|why| {
                 FmuError::error(format!("{fname}: {} {why}; value not set", v.name))
             })?;
@@ -386,12 +395,12 @@ impl ModelInstance {
 
     /// fmi2SetReal.
     pub fn set_real(&mut self, vrs: &[u32], values: &[Real]) -> FmuResult<()> {
-        self.set_batch(vrs, values, "Real", "fmi2SetReal", write_real)
+        self.set_batch(vrs, values, Ty::Real, "fmi2SetReal", write_real)
     }
 
     /// fmi2SetInteger.
     pub fn set_integer(&mut self, vrs: &[u32], values: &[i32]) -> FmuResult<()> {
-        self.set_batch(vrs, values, "Integer", "fmi2SetInteger", |p, _, f, x| {
+        self.set_batch(vrs, values, Ty::Integer, "fmi2SetInteger", |p, _, f, x| {
             write_int(p, f, x)
         })
     }
@@ -401,7 +410,7 @@ impl ModelInstance {
         self.set_batch(
             vrs,
             values,
-            "Boolean",
+            Ty::Boolean,
             "fmi2SetBoolean",
             |p, _, f, x| match f {
                 Field::CompParam {
@@ -474,7 +483,7 @@ impl ModelInstance {
     }
 
     /// Checks every VR of a get call; returns whether any is an output.
-    fn check_get(&self, vrs: &[u32], ty: &str, fname: &str) -> FmuResult<bool> {
+    fn check_get(&self, vrs: &[u32], ty: Ty, fname: &str) -> FmuResult<bool> {
         self.allowed(Call::Get, fname)?;
         let mut any_output = false;
         for &vr in vrs {
@@ -486,13 +495,13 @@ impl ModelInstance {
     /// fmi2GetReal.
     pub fn get_real(&mut self, vrs: &[u32], out: &mut [Real]) -> FmuResult<()> {
         const F: &str = "fmi2GetReal";
-        let o = if self.check_get(vrs, "Real", F)? {
+        let o = if self.check_get(vrs, Ty::Real, F)? {
             Some(self.outputs(F)?)
         } else {
             None
         };
         for (&vr, slot) in vrs.iter().zip(out.iter_mut()) {
-            let v = self.var(vr, "Real", F)?;
+            let v = self.var(vr, Ty::Real, F)?;
             *slot = match (v.field, &o) {
                 (Field::Input { node, idx }, _) => self.s.inputs[node as usize][idx as usize],
                 (f, Some(o)) if v.causality == Causality::Output => read_output(o, f),
@@ -505,13 +514,13 @@ impl ModelInstance {
     /// fmi2GetInteger.
     pub fn get_integer(&mut self, vrs: &[u32], out: &mut [i32]) -> FmuResult<()> {
         const F: &str = "fmi2GetInteger";
-        let o = if self.check_get(vrs, "Integer", F)? {
+        let o = if self.check_get(vrs, Ty::Integer, F)? {
             Some(self.outputs(F)?)
         } else {
             None
         };
         for (&vr, slot) in vrs.iter().zip(out.iter_mut()) {
-            let v = self.var(vr, "Integer", F)?;
+            let v = self.var(vr, Ty::Integer, F)?;
             *slot = match (v.field, &o) {
                 (Field::StopStatus(k), Some(o)) => o.cslst[k as usize],
                 (Field::Friction(FrictionField::Status), Some(o)) => o.friction.status as i32,
@@ -525,9 +534,9 @@ impl ModelInstance {
     /// fmi2GetBoolean.
     pub fn get_boolean(&mut self, vrs: &[u32], out: &mut [bool]) -> FmuResult<()> {
         const F: &str = "fmi2GetBoolean";
-        self.check_get(vrs, "Boolean", F)?;
+        self.check_get(vrs, Ty::Boolean, F)?;
         for (&vr, slot) in vrs.iter().zip(out.iter_mut()) {
-            *slot = match self.var(vr, "Boolean", F)?.field {
+            *slot = match self.var(vr, Ty::Boolean, F)?.field {
                 Field::CompParam { k, .. } => self.s.params.ref_given[k as usize],
                 _ => false,
             };
@@ -547,7 +556,7 @@ impl ModelInstance {
         let mut der = self.s.input_der;
         let mut set = self.s.input_der_set;
         for ((&vr, &order), &x) in vrs.iter().zip(orders).zip(values) {
-            let v = self.var(vr, "Real", F)?;
+            let v = self.var(vr, Ty::Real, F)?;
             let Field::Input { node, idx } = v.field else {
                 return Err(FmuError::error(format!("{F}: {} is not an input", v.name)));
             };
@@ -635,9 +644,11 @@ impl ModelInstance {
                 write_node(&mut self.s.inputs[0], &adv.a);
                 write_node(&mut self.s.inputs[1], &adv.b);
                 self.s.input_der_set = [[false; 13]; 2];
-                // Outputs are a function of (inputs, committed state) alone, evaluated when
-                // read: so a restored FMU state reports exactly what was read when it was saved.
-                self.cache = None;
+                // Outputs are a function of (inputs, committed state) alone: the last substep
+                // was evaluated on the nodes exactly as they are written back, from the angle
+                // branches and friction state it commits, so its outputs are that function's
+                // value (bit for bit: a restored FMU state reports what was read at saving).
+                self.cache = Some(adv.outputs);
                 if self.wants(Category::Events) {
                     self.log_transitions(&before, &adv.state);
                 }
@@ -766,6 +777,37 @@ fn nodes_of(inputs: &[NodeInputs; 2]) -> FmuResult<(Node, Node)> {
         };
     }
     Ok((out[0], out[1]))
+}
+
+/// FMI base types, for the type check of get/set calls.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Ty {
+    Real,
+    Integer,
+    Boolean,
+}
+
+impl Ty {
+    fn of(s: &Start) -> Ty {
+        match s {
+            Start::Real(_) => Ty::Real,
+            Start::Integer(_) => Ty::Integer,
+            Start::Boolean(_) => Ty::Boolean,
+        }
+    }
+}
+
+/// The message for an unknown VR or a VR of another type (off the hot path).
+#[cold]
+fn var_error(vr: u32, found: Option<&VarSpec>, want: Ty, fname: &str) -> FmuError {
+    match found {
+        None => FmuError::error(format!("{fname}: unknown value reference {vr}")),
+        Some(v) => FmuError::error(format!(
+            "{fname}: variable {} (vr {vr}) is of type {:?}, not {want:?}",
+            v.name,
+            Ty::of(&v.start)
+        )),
+    }
 }
 
 /// Writes an extrapolated node back into the inputs.
@@ -995,7 +1037,7 @@ impl ModelInstance {
         const F: &str = "fmi2GetDirectionalDerivative";
         self.allowed(Call::Get, F)?;
         for &vr in unknowns {
-            let v = self.var(vr, "Real", F)?;
+            let v = self.var(vr, Ty::Real, F)?;
             if v.causality != Causality::Output || v.variability != Variability::Continuous {
                 return Err(FmuError::error(format!(
                     "{F}: unknown {} is not a continuous Real output",
@@ -1006,7 +1048,7 @@ impl ModelInstance {
         let mut scale: Real = 1.0;
         let mut dmax: Real = 0.0;
         for (&vr, &d) in knowns.iter().zip(dknown) {
-            let v = self.var(vr, "Real", F)?;
+            let v = self.var(vr, Ty::Real, F)?;
             let Field::Input { node, idx } = v.field else {
                 return Err(FmuError::error(format!(
                     "{F}: known {} is not an input",
@@ -1041,7 +1083,7 @@ impl ModelInstance {
         let plus = self.evaluate_at(&shifted(1.0), F)?;
         let minus = self.evaluate_at(&shifted(-1.0), F)?;
         for (&vr, slot) in unknowns.iter().zip(out.iter_mut()) {
-            let v = self.var(vr, "Real", F)?;
+            let v = self.var(vr, Ty::Real, F)?;
             let d =
                 dmax * ((read_output(&plus, v.field) - read_output(&minus, v.field)) / (2.0 * eps));
             if !d.is_finite() {

@@ -255,6 +255,14 @@ pub fn update(
         ([f_tr[0] * scale, f_tr[1] * scale], m_tr * scale_r)
     };
     slip_update(&mut next, p, f_tr, f, m_tr, m);
+    // The force as the stick springs give it from the new plastic slip: the same expression a
+    // later evaluation at this point starts from, so both report the same bits.
+    let f = [
+        p.k_stick * (pos[0] - next.slip_plastic[0]),
+        p.k_stick * (pos[1] - next.slip_plastic[1]),
+    ];
+    let m = p.k_stick_r1 * (pos[2] - next.slip_plastic_r1);
+    next.force = [f[0], f[1], m];
     let csfc = f[0].hypot(f[1]);
     FrictionResult {
         force: [f[0], f[1], m],
@@ -283,9 +291,10 @@ pub const ON_LIMIT: Real = 1e-9;
 /// Scale factor onto the limit and the status for a trial magnitude.
 #[inline]
 fn return_status(trial: Real, limit: Real, normal: Real) -> (Real, Status) {
-    // On the limit within round-off counts as slip: re-evaluating the connector at the point
-    // where a slip step ended puts the trial force back on the limit, and that is still slip.
-    if normal > 0.0 && trial >= limit * (1.0 - ON_LIMIT) && trial <= limit {
+    // On the limit within round-off counts as slip, with no further return: re-evaluating the
+    // connector where a slip step ended puts the trial force back on the limit (to round-off,
+    // either side), and that is the same slip with the same force.
+    if normal > 0.0 && (trial - limit).abs() <= ON_LIMIT * limit {
         return (1.0, Status::Slip);
     }
     if trial <= limit {

@@ -42,7 +42,10 @@ pub fn wrap_pi(x: Real) -> Real {
 /// Why: atan2 jumps by 2π; connector angles (β, PLANAR's α) accumulate turns.
 #[inline]
 pub fn continue_branch(raw: Real, prev: Real) -> Real {
-    prev + wrap_pi(raw - prev)
+    // raw + 2πm (not prev + wrap(raw − prev)): applied again to its own result it returns the
+    // same bits, so re-evaluating where a step ended reproduces that step's angles exactly
+    let two_pi = 2.0 * std::f64::consts::PI;
+    raw + two_pi * ((prev - raw) / two_pi).round()
 }
 
 /// `x / sin x`, smooth through 0 (series below 1e-4, where the error is below 1e-17).
@@ -84,6 +87,12 @@ pub fn quat_from_wxyz(w: Real, x: Real, y: Real, z: Real) -> Option<Quat> {
     let n = q.norm();
     if !n.is_finite() || n < 1e-6 {
         return None;
+    }
+    // A quaternion already unit to round-off is taken as it is: the FMU writes its own
+    // extrapolated orientations back into the inputs, and reading them back must give the
+    // same bits (dividing by a norm of 1 ± ε would not).
+    if (n - 1.0).abs() <= 4.0 * Real::EPSILON {
+        return Some(UnitQuaternion::new_unchecked(q));
     }
     Some(UnitQuaternion::new_unchecked(q / n))
 }
