@@ -31,7 +31,10 @@ fn stop_and_friction_transitions_are_logged_under_log_events() {
     let f = Fmu::with_logging(Variant::Planar, true);
     let cat = std::ffi::CString::new("logEvents").expect("no NUL");
     let cats = [cat.as_ptr()];
-    assert_eq!(fmi2SetDebugLogging(f.c, 1, 1, cats.as_ptr()), fmi2Status::OK);
+    assert_eq!(
+        fmi2SetDebugLogging(f.c, 1, 1, cats.as_ptr()),
+        fmi2Status::OK
+    );
     let before = f.log_len();
     drive(&f);
     let log = f.log().split_off(before);
@@ -41,14 +44,23 @@ fn stop_and_friction_transitions_are_logged_under_log_events() {
         .map(|l| l.message.as_str())
         .collect();
     assert!(
-        events.iter().any(|m| m.contains("component 2 at the upper stop (was free)")),
+        events
+            .iter()
+            .any(|m| m.contains("component 2 at the upper stop (was free)")),
         "{events:?}"
     );
     assert!(
-        events.iter().any(|m| m.contains("component 2 free (was at the upper stop)")),
+        events
+            .iter()
+            .any(|m| m.contains("component 2 free (was at the upper stop)")),
         "{events:?}"
     );
-    assert!(events.iter().any(|m| m.contains("sliding friction Slip (was Stick)")), "{events:?}");
+    assert!(
+        events
+            .iter()
+            .any(|m| m.contains("sliding friction Slip (was Stick)")),
+        "{events:?}"
+    );
     // only logEvents is on since fmi2SetDebugLogging: no call traces after it
     assert!(log.iter().all(|l| l.category != "logAll"));
 }

@@ -1,0 +1,877 @@
+//! Native benchmark (SPEC §8): the cost of the exported FMI functions, release build, called as
+//! an importer calls them (through `extern "C"` function pointers), against the floor of an
+//! empty FMI round trip measured side by side in the same run.
+//!
+//! Per variant, behaviours off (defaults) and on, in a driven scene (node b on a smooth periodic
+//! path with consistent velocities; h = 1 ms, default substepping):
+//! - `ns_doStep_median`: ns per fmi2DoStep alone (each call bracketed by `Instant::now`, the
+//!   bracket's own cost subtracted);
+//! - `ns_round_median`: ns per round fmi2SetReal(node inputs) + fmi2DoStep + fmi2GetReal(node loads);
+//! - `floor_ns_round_median`: the same round on the empty FMU (`empty_fmu/src/imp.rs`: set/get
+//!   copy values into/out of an array, doStep advances the clock), with the same numbers of
+//!   values, its batches interleaved with the variant's batches;
+//! - `ratio` = ns_round / floor_ns_round (targets: Bushing on ≤ 40, Planar on ≤ 25; figures,
+//!   not a pass/fail test);
+//! - `allocs_per_step`: heap allocations per round after warm-up, counted by a counting global
+//!   allocator (must be 0: the run fails otherwise);
+//! - `state_bytes`: fmi2SerializedFMUstateSize after the run (must be ≤ 1024: the run fails
+//!   otherwise).
+//!
+//! `cargo bench --bench native` runs the full benchmark, prints the table and writes
+//! out/bench_native.csv and out/bench_scenes.json (the "on" scenes of Bushing and Planar, for
+//! scripts/bench_fmpy.py). Without `--bench` (e.g. `cargo test --benches`) it runs a short smoke
+//! pass and writes nothing. Environment: BENCH_BATCHES, BENCH_STEPS (per batch),
+//! BENCH_ONLY=<Variant>[:on|:off] (then nothing is written either), BENCH_PROFILE=<n> (n more
+//! rounds in `profiled` and `profiled_empty`, for
+//! `valgrind --tool=callgrind --toggle-collect='native::profiled'`).
+#![allow(clippy::not_unsafe_ptr_arg_deref)]
+
+use connector_fmu::fmi2::exports as fmi;
+use connector_fmu::fmi2::types::{
+    fmi2CallbackFunctions, fmi2CallbackLogger, fmi2Component, fmi2FMUstate, fmi2False, fmi2Status,
+};
+use connector_fmu::variables::{table, Causality, Field, Variant};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::ffi::{c_char, c_double, c_int, c_uint, c_void, CStr, CString};
+use std::fmt::Write as _;
+use std::hint::black_box;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::{Duration, Instant};
+
+#[path = "../empty_fmu/src/imp.rs"]
+mod empty;
+
+// ---------------------------------------------------------------- counting allocator
+
+/// Every allocation (alloc, alloc_zeroed, realloc) of the process.
+static ALLOCS: AtomicUsize = AtomicUsize::new(0);
+
+struct Counting;
+
+// SAFETY: forwards to System unchanged; only counts.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
+        ALLOCS.fetch_add(1, Ordering::Relaxed);
+        System.alloc(l)
+    }
+    unsafe fn alloc_zeroed(&self, l: Layout) -> *mut u8 {
+        ALLOCS.fetch_add(1, Ordering::Relaxed);
+        System.alloc_zeroed(l)
+    }
+    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
+        ALLOCS.fetch_add(1, Ordering::Relaxed);
+        System.realloc(p, l, n)
+    }
+    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
+        System.dealloc(p, l)
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+// ---------------------------------------------------------------- the two FMUs' functions
+
+/// The three functions of a round, as C function pointers returning the status type `R`.
+struct Api<R> {
+    set_real: extern "C" fn(*mut c_void, *const c_uint, usize, *const c_double) -> R,
+    do_step: extern "C" fn(*mut c_void, c_double, c_double, c_int) -> R,
+    get_real: extern "C" fn(*mut c_void, *const c_uint, usize, *mut c_double) -> R,
+    ok: R,
+}
+
+const REAL: Api<fmi2Status> = Api {
+    set_real: fmi::fmi2SetReal,
+    do_step: fmi::fmi2DoStep,
+    get_real: fmi::fmi2GetReal,
+    ok: fmi2Status::OK,
+};
+
+const EMPTY: Api<c_int> = Api {
+    set_real: empty::set_real,
+    do_step: empty::do_step,
+    get_real: empty::get_real,
+    ok: empty::OK,
+};
+
+// ---------------------------------------------------------------- scenes
+
+/// Communication step (s).
+const H: f64 = 1e-3;
+/// Steps per period of every path (2 s).
+const PERIOD: usize = 2000;
+/// Node inputs per node: r(3), q w x y z (4), v(3), ω(3).
+const PER_NODE: usize = 13;
+
+/// Both nodes' 26 inputs at t, node a then node b, in the order of `Field::Input { node, idx }`.
+type Pose = [f64; 2 * PER_NODE];
+
+fn node_a_at_rest(p: &mut Pose) {
+    p[..PER_NODE].copy_from_slice(&[
+        0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+    ]);
+}
+
+/// Node a at rest at the origin; node b translates on a Lissajous path and rotates about the
+/// fixed axis n = (2, 1, 2)/3 by φ = 0.3 sin ωt (so α1, α2 and β all vary), ω = 2π rad/s.
+fn smooth(t: f64) -> Pose {
+    let om = 2.0 * std::f64::consts::PI;
+    let (s, c) = (om * t).sin_cos();
+    let (s2, c2) = (2.0 * om * t).sin_cos();
+    let phi = 0.3 * s;
+    let dphi = 0.3 * om * c;
+    let n = [2.0 / 3.0, 1.0 / 3.0, 2.0 / 3.0];
+    let (sh, ch) = (0.5 * phi).sin_cos();
+    let mut p = [0.0; 26];
+    node_a_at_rest(&mut p);
+    let b = &mut p[PER_NODE..];
+    b[0..3].copy_from_slice(&[0.05 + 0.01 * s, -0.03 + 0.008 * s2, 0.10 + 0.01 * c]);
+    b[3..7].copy_from_slice(&[ch, sh * n[0], sh * n[1], sh * n[2]]);
+    b[7..10].copy_from_slice(&[0.01 * om * c, 0.016 * om * c2, -0.01 * om * s]);
+    b[10..13].copy_from_slice(&[dphi * n[0], dphi * n[1], dphi * n[2]]);
+    p
+}
+
+/// PLANAR (as tests/python PlanarSlide): node a at rest; node b slides in a's 2–3 plane along a
+/// parabolic arc b = (X0, Y0 + A s, Z0 + B s²), s = sin ωt (the sliding direction turns, both
+/// rates vanish at the ends so the friction sticks there) and spins about e1 by
+/// ψ = PSI0 + PS sin 1.5ωt.
+fn planar(t: f64) -> Pose {
+    const X0: f64 = 0.1;
+    const Y0: f64 = 0.2;
+    const Z0: f64 = -0.1;
+    const A: f64 = 0.02;
+    const B: f64 = 0.008;
+    const PSI0: f64 = 0.3;
+    const PS: f64 = 0.05;
+    let om = 2.0 * std::f64::consts::PI;
+    let (s, c) = (om * t).sin_cos();
+    let ds = om * c;
+    let psi = PSI0 + PS * (1.5 * om * t).sin();
+    let dpsi = 1.5 * om * PS * (1.5 * om * t).cos();
+    let (sh, ch) = (0.5 * psi).sin_cos();
+    let mut p = [0.0; 26];
+    node_a_at_rest(&mut p);
+    let b = &mut p[PER_NODE..];
+    b[0..3].copy_from_slice(&[X0, Y0 + A * s, Z0 + B * s * s]);
+    b[3..7].copy_from_slice(&[ch, sh, 0.0, 0.0]);
+    b[7..10].copy_from_slice(&[0.0, A * ds, 2.0 * B * s * ds]);
+    b[10..13].copy_from_slice(&[dpsi, 0.0, 0.0]);
+    p
+}
+
+/// One benchmark configuration.
+struct Case {
+    variant: Variant,
+    on: bool,
+}
+
+fn name_of(v: Variant) -> &'static str {
+    v.spec().model_identifier
+}
+
+/// The Abaqus components (1..6) the variant makes available.
+fn components(v: Variant) -> Vec<usize> {
+    table(v)
+        .vars
+        .iter()
+        .filter_map(|x| x.name.strip_prefix("elasticity.k"))
+        .filter_map(|k| k.parse().ok())
+        .collect()
+}
+
+/// Components that get a stop in the "on" configuration (hit twice per period).
+fn stop_components(v: Variant) -> &'static [usize] {
+    match v {
+        Variant::Bushing => &[1, 4],
+        Variant::Planar => &[2],
+        Variant::ProjectionCartesian => &[1],
+        Variant::ProjectionFlexionTorsion => &[4],
+        Variant::RadialThrust => &[1],
+    }
+}
+
+/// CP<i> / CPR<i> of Abaqus component k.
+fn position_name(k: usize) -> String {
+    if k <= 3 {
+        format!("CP{k}")
+    } else {
+        format!("CPR{}", k - 3)
+    }
+}
+
+fn vr_of(v: Variant, name: &str) -> u32 {
+    table(v)
+        .vars
+        .iter()
+        .find(|x| x.name == name)
+        .unwrap_or_else(|| panic!("{} has no variable {name}", name_of(v)))
+        .vr
+}
+
+// ---------------------------------------------------------------- instances
+
+extern "C" fn logger(
+    _env: *mut c_void,
+    instance: *const c_char,
+    status: c_int,
+    category: *const c_char,
+    message: *const c_char,
+) {
+    let s = |p: *const c_char| {
+        if p.is_null() {
+            String::from("<NULL>")
+        } else {
+            // SAFETY: NUL-terminated strings alive during the call.
+            unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned()
+        }
+    };
+    eprintln!(
+        "[{}] status {status} {}: {}",
+        s(instance),
+        s(category),
+        s(message)
+    );
+}
+
+fn callbacks() -> fmi2CallbackFunctions {
+    let plain: extern "C" fn(*mut c_void, *const c_char, c_int, *const c_char, *const c_char) =
+        logger;
+    // SAFETY: as in tests/common: the FMU calls the logger with the five fixed arguments only,
+    // whose types have the same ABI (fmi2Status is a #[repr(C)] enum passed as int).
+    let logger = unsafe {
+        std::mem::transmute::<
+            extern "C" fn(*mut c_void, *const c_char, c_int, *const c_char, *const c_char),
+            fmi2CallbackLogger,
+        >(plain)
+    };
+    fmi2CallbackFunctions {
+        logger: Some(logger),
+        allocateMemory: None,
+        freeMemory: None,
+        stepFinished: None,
+        componentEnvironment: std::ptr::null_mut(),
+    }
+}
+
+/// An initialized instance with its value references and its precomputed input path.
+struct Inst {
+    c: fmi2Component,
+    vin: Vec<u32>,
+    vout: Vec<u32>,
+    /// PERIOD rows of vin.len() values.
+    path: Vec<f64>,
+    /// Steps taken (the next step starts at step·H).
+    step: usize,
+    empty: bool,
+}
+
+impl Drop for Inst {
+    fn drop(&mut self) {
+        if self.empty {
+            empty::free_instance(self.c);
+        } else {
+            fmi::fmi2FreeInstance(self.c);
+        }
+    }
+}
+
+#[track_caller]
+fn ok(s: fmi2Status, what: &str) {
+    assert_eq!(s, fmi2Status::OK, "{what}");
+}
+
+/// Inputs (value references, index into Pose) and node-load outputs of a variant.
+fn interface(v: Variant) -> (Vec<u32>, Vec<usize>, Vec<u32>) {
+    let (mut vin, mut sel, mut vout) = (vec![], vec![], vec![]);
+    for x in &table(v).vars {
+        match x.field {
+            Field::Input { node, idx } if x.causality == Causality::Input => {
+                vin.push(x.vr);
+                sel.push(node as usize * PER_NODE + idx as usize);
+            }
+            Field::Load { .. } if x.causality == Causality::Output => vout.push(x.vr),
+            _ => {}
+        }
+    }
+    (vin, sel, vout)
+}
+
+fn path_of(v: Variant, sel: &[usize]) -> Vec<f64> {
+    let pose = if v == Variant::Planar { planar } else { smooth };
+    let mut path = Vec::with_capacity(PERIOD * sel.len());
+    for i in 0..PERIOD {
+        let p = pose(i as f64 * H);
+        path.extend(sel.iter().map(|&j| p[j]));
+    }
+    path
+}
+
+/// An instance of the real FMU, parameters set, inputs at t = 0, initialized.
+fn real_instance(v: Variant, params: &[(String, f64)]) -> Inst {
+    let (vin, sel, vout) = interface(v);
+    let path = path_of(v, &sel);
+    let cb = callbacks();
+    let name = CString::new("bench").unwrap();
+    let guid = CString::new(table(v).guid.clone()).unwrap();
+    let c = fmi::fmi2Instantiate(
+        name.as_ptr(),
+        1,
+        guid.as_ptr(),
+        c"".as_ptr(),
+        &cb,
+        fmi2False,
+        fmi2False,
+    );
+    assert!(!c.is_null(), "fmi2Instantiate refused {}", name_of(v));
+    let inst = Inst {
+        c,
+        vin,
+        vout,
+        path,
+        step: 0,
+        empty: false,
+    };
+    for (n, x) in params {
+        ok(fmi::fmi2SetReal(c, &vr_of(v, n), 1, x), n);
+    }
+    ok(
+        fmi::fmi2SetupExperiment(c, fmi2False, 0.0, 0.0, fmi2False, 0.0),
+        "setup",
+    );
+    ok(fmi::fmi2EnterInitializationMode(c), "enter init");
+    ok(
+        fmi::fmi2SetReal(c, inst.vin.as_ptr(), inst.vin.len(), inst.path.as_ptr()),
+        "inputs at 0",
+    );
+    ok(fmi::fmi2ExitInitializationMode(c), "exit init");
+    inst
+}
+
+/// An instance of the empty FMU with the same numbers of inputs and outputs and the same path.
+fn empty_instance(like: &Inst) -> Inst {
+    let name = CString::new("empty").unwrap();
+    let guid = CString::new(empty::GUID).unwrap();
+    let cb = callbacks();
+    let c = empty::instantiate(
+        name.as_ptr(),
+        1,
+        guid.as_ptr(),
+        c"".as_ptr(),
+        (&cb as *const fmi2CallbackFunctions).cast(),
+        0,
+        0,
+    );
+    assert!(!c.is_null());
+    let n_in = like.vin.len() as u32;
+    let n_out = like.vout.len() as u32;
+    assert!(n_in <= empty::N_IN && n_out <= empty::N_OUT);
+    let inst = Inst {
+        c,
+        vin: (1..=n_in).collect(),
+        vout: (empty::N_IN + 1..=empty::N_IN + n_out).collect(),
+        path: like.path.clone(),
+        step: 0,
+        empty: true,
+    };
+    assert_eq!(empty::setup_experiment(c, 0, 0.0, 0.0, 0, 0.0), empty::OK);
+    assert_eq!(empty::enter_initialization_mode(c), empty::OK);
+    assert_eq!(empty::exit_initialization_mode(c), empty::OK);
+    inst
+}
+
+// ---------------------------------------------------------------- timed loops
+
+#[cold]
+#[inline(never)]
+fn step_failed<R: std::fmt::Debug>(step: usize, s: [R; 3]) -> ! {
+    panic!("round at step {step} failed: set/doStep/get returned {s:?}");
+}
+
+/// `n` rounds set + doStep + get; the wall time of the whole loop.
+#[inline(never)]
+fn rounds<R: Copy + PartialEq + std::fmt::Debug>(api: &Api<R>, f: &mut Inst, n: usize) -> Duration {
+    let (set, step, get) = (
+        black_box(api.set_real),
+        black_box(api.do_step),
+        black_box(api.get_real),
+    );
+    let (n_in, n_out) = (f.vin.len(), f.vout.len());
+    let mut out = [0.0f64; 16];
+    let start = Instant::now();
+    for _ in 0..n {
+        let k = f.step;
+        let row = &f.path[(k % PERIOD) * n_in..][..n_in];
+        let s1 = set(f.c, f.vin.as_ptr(), n_in, row.as_ptr());
+        let s2 = step(f.c, k as f64 * H, H, 0);
+        let s3 = get(f.c, f.vout.as_ptr(), n_out, out.as_mut_ptr());
+        if s1 != api.ok || s2 != api.ok || s3 != api.ok {
+            step_failed(k, [s1, s2, s3]);
+        }
+        black_box(&out);
+        f.step = k + 1;
+    }
+    start.elapsed()
+}
+
+/// `n` rounds of the real FMU, alone in a function of its own (BENCH_PROFILE=n).
+#[inline(never)]
+fn profiled(f: &mut Inst, n: usize) {
+    rounds(&REAL, f, n);
+}
+
+/// `n` rounds of the empty FMU, alone in a function of its own (BENCH_PROFILE=n).
+#[inline(never)]
+fn profiled_empty(f: &mut Inst, n: usize) {
+    rounds(&EMPTY, f, n);
+}
+
+/// `n` rounds as above, timing only fmi2DoStep (each call bracketed by Instant::now).
+#[inline(never)]
+fn do_steps<R: Copy + PartialEq + std::fmt::Debug>(
+    api: &Api<R>,
+    f: &mut Inst,
+    n: usize,
+) -> Duration {
+    let (set, step, get) = (
+        black_box(api.set_real),
+        black_box(api.do_step),
+        black_box(api.get_real),
+    );
+    let (n_in, n_out) = (f.vin.len(), f.vout.len());
+    let mut out = [0.0f64; 16];
+    let mut acc = Duration::ZERO;
+    for _ in 0..n {
+        let k = f.step;
+        let row = &f.path[(k % PERIOD) * n_in..][..n_in];
+        let s1 = set(f.c, f.vin.as_ptr(), n_in, row.as_ptr());
+        let t0 = Instant::now();
+        let s2 = step(f.c, k as f64 * H, H, 0);
+        acc += t0.elapsed();
+        let s3 = get(f.c, f.vout.as_ptr(), n_out, out.as_mut_ptr());
+        if s1 != api.ok || s2 != api.ok || s3 != api.ok {
+            step_failed(k, [s1, s2, s3]);
+        }
+        black_box(&out);
+        f.step = k + 1;
+    }
+    acc
+}
+
+/// ns of an empty `Instant::now()` … `elapsed()` bracket, over `n` brackets (measured in every
+/// batch, next to the timed calls, and subtracted from `do_steps`).
+#[inline(never)]
+fn bracket_ns(n: usize) -> f64 {
+    let mut acc = Duration::ZERO;
+    for _ in 0..n {
+        let t0 = Instant::now();
+        acc += black_box(t0).elapsed();
+    }
+    acc.as_nanos() as f64 / n as f64
+}
+
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(|a, b| a.total_cmp(b));
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+// ---------------------------------------------------------------- one case
+
+struct Row {
+    variant: &'static str,
+    on: bool,
+    ns_do_step: f64,
+    ns_round: f64,
+    floor_round: f64,
+    floor_do_step: f64,
+    allocs: usize,
+    alloc_steps: usize,
+    state_bytes: usize,
+    n_in: usize,
+    n_out: usize,
+    target: Option<f64>,
+    /// min(ns_round) / min(floor_ns_round): the least disturbed batches (busy machines).
+    ratio_min: f64,
+    /// Median cost of the Instant bracket subtracted from ns_doStep.
+    bracket: f64,
+}
+
+struct Settings {
+    batches: usize,
+    steps: usize,
+    alloc_steps: usize,
+}
+
+/// The "on" parameters of a variant (stops placed from a pre-pass over one period).
+fn params_on(v: Variant) -> Vec<(String, f64)> {
+    let mut p: Vec<(String, f64)> = vec![];
+    if v == Variant::Planar {
+        // as PLANAR_FRICTION in tests/python/test_fmpy_cosim.py
+        for (n, x) in [
+            ("elasticity.k2", 200.0),
+            ("elasticity.k3", 200.0),
+            ("elasticity.k4", 5.0),
+            ("damping.c2", 2.0),
+            ("damping.c3", 2.0),
+            ("damping.c4", 0.05),
+            ("friction.muStatic", 0.4),
+            ("friction.muKinetic", 0.3),
+            ("friction.decay", 2.0),
+            ("friction.R", 0.05),
+            ("friction.Fint", 100.0),
+            ("friction.Mint", 2.0),
+            ("friction.stickStiffness", 1.0e4),
+            ("friction.stickStiffnessR1", 100.0),
+        ] {
+            p.push((n.into(), x));
+        }
+    } else {
+        let (kt, kr) = ([1000.0, 1500.0, 800.0], [50.0, 40.0, 60.0]);
+        let (ct, cr) = ([10.0, 12.0, 8.0], [0.5, 0.4, 0.6]);
+        for k in components(v) {
+            let (kk, cc) = if k <= 3 {
+                (kt[k - 1], ct[k - 1])
+            } else {
+                (kr[k - 4], cr[k - 4])
+            };
+            p.push((format!("elasticity.k{k}"), kk));
+            p.push((format!("damping.c{k}"), cc));
+        }
+    }
+    // stops at 70 % of each component's excursion along the path (positions are kinematic, so
+    // a pre-pass with the defaults gives them)
+    let stops = stop_components(v);
+    let mut pre = real_instance(v, &[]);
+    let vrs: Vec<u32> = stops.iter().map(|&k| vr_of(v, &position_name(k))).collect();
+    let mut lo = vec![f64::INFINITY; stops.len()];
+    let mut hi = vec![f64::NEG_INFINITY; stops.len()];
+    let mut x = vec![0.0; stops.len()];
+    for _ in 0..PERIOD {
+        rounds(&REAL, &mut pre, 1);
+        ok(
+            fmi::fmi2GetReal(pre.c, vrs.as_ptr(), vrs.len(), x.as_mut_ptr()),
+            "positions",
+        );
+        for i in 0..x.len() {
+            lo[i] = lo[i].min(x[i]);
+            hi[i] = hi[i].max(x[i]);
+        }
+    }
+    for (i, &k) in stops.iter().enumerate() {
+        p.push((format!("stop.upper{k}"), lo[i] + 0.7 * (hi[i] - lo[i])));
+    }
+    p.extend([
+        ("stop.stiffness".into(), 1.0e5),
+        ("stop.damping".into(), 10.0),
+        ("stop.rotStiffness".into(), 500.0),
+        ("stop.rotDamping".into(), 1.0),
+    ]);
+    p.retain(|(n, _)| table(v).vars.iter().any(|x| &x.name == n));
+    p
+}
+
+fn stop_status_vrs(v: Variant) -> Vec<u32> {
+    stop_components(v)
+        .iter()
+        .map(|k| vr_of(v, &format!("CSLST{k}")))
+        .collect()
+}
+
+fn run_case(case: &Case, params: &[(String, f64)], s: &Settings) -> Row {
+    let v = case.variant;
+    let mut f = real_instance(v, params);
+    let mut e = empty_instance(&f);
+
+    // warm-up (also checks that the "on" scene really engages its stops)
+    rounds(&REAL, &mut f, PERIOD);
+    rounds(&EMPTY, &mut e, PERIOD);
+    if case.on {
+        let vrs = stop_status_vrs(v);
+        let mut hit = vec![false; vrs.len()];
+        let mut st = vec![0; vrs.len()];
+        for _ in 0..PERIOD {
+            rounds(&REAL, &mut f, 1);
+            ok(
+                fmi::fmi2GetInteger(f.c, vrs.as_ptr(), vrs.len(), st.as_mut_ptr()),
+                "CSLST",
+            );
+            for (h, x) in hit.iter_mut().zip(&st) {
+                *h |= *x != 0;
+            }
+        }
+        assert!(
+            hit.iter().all(|&h| h),
+            "{}: a stop is never hit",
+            name_of(v)
+        );
+    }
+
+    if let Some(n) = env_usize("BENCH_PROFILE") {
+        // only steady-state rounds, for `valgrind --tool=callgrind --toggle-collect=native::profiled`
+        profiled(&mut f, n);
+        profiled_empty(&mut e, n);
+    }
+    let (mut fr, mut vr, mut fd, mut vd, mut br) = (vec![], vec![], vec![], vec![], vec![]);
+    let per = |d: Duration| d.as_nanos() as f64 / s.steps as f64;
+    for _ in 0..s.batches {
+        fr.push(per(rounds(&EMPTY, &mut e, s.steps)));
+        vr.push(per(rounds(&REAL, &mut f, s.steps)));
+        let b = bracket_ns(s.steps);
+        br.push(b);
+        fd.push(per(do_steps(&EMPTY, &mut e, s.steps)) - b);
+        vd.push(per(do_steps(&REAL, &mut f, s.steps)) - b);
+    }
+
+    let before = ALLOCS.load(Ordering::SeqCst);
+    rounds(&REAL, &mut f, s.alloc_steps);
+    let allocs = ALLOCS.load(Ordering::SeqCst) - before;
+
+    let mut state: fmi2FMUstate = std::ptr::null_mut();
+    ok(fmi::fmi2GetFMUstate(f.c, &mut state), "fmi2GetFMUstate");
+    let mut state_bytes = 0usize;
+    ok(
+        fmi::fmi2SerializedFMUstateSize(f.c, state, &mut state_bytes),
+        "fmi2SerializedFMUstateSize",
+    );
+    ok(fmi::fmi2FreeFMUstate(f.c, &mut state), "fmi2FreeFMUstate");
+
+    let target = match (v, case.on) {
+        (Variant::Bushing, true) => Some(40.0),
+        (Variant::Planar, true) => Some(25.0),
+        _ => None,
+    };
+    Row {
+        variant: name_of(v),
+        on: case.on,
+        ns_do_step: median(&mut vd),
+        ns_round: median(&mut vr),
+        floor_round: median(&mut fr),
+        floor_do_step: median(&mut fd),
+        ratio_min: vr[0] / fr[0], // sorted by median()
+        bracket: median(&mut br),
+        allocs,
+        alloc_steps: s.alloc_steps,
+        state_bytes,
+        n_in: f.vin.len(),
+        n_out: f.vout.len(),
+        target,
+    }
+}
+
+// ---------------------------------------------------------------- output
+
+fn table_text(rows: &[Row], s: &Settings) -> String {
+    let mut t = String::new();
+    let _ = writeln!(
+        t,
+        "native benchmark: release build, through the exported C functions; h = {H} s, default substepping; \
+         median of {} batches x {} steps; round = set(in node inputs) + doStep + get(out node loads)",
+        s.batches, s.steps
+    );
+    let mut b: Vec<f64> = rows.iter().map(|r| r.bracket).collect();
+    let _ = writeln!(
+        t,
+        "(Instant bracket measured in every batch and subtracted from ns_doStep: median {:.1} ns; \
+         ratio = ns_round / floor_round, ratio_min = the same from the fastest batches)",
+        if b.is_empty() { 0.0 } else { median(&mut b) }
+    );
+    let _ = writeln!(
+        t,
+        "{:<25} {:>4} {:>6} {:>10} {:>9} {:>11} {:>10} {:>6} {:>9} {:>9} {:>7}  target",
+        "variant",
+        "beh",
+        "in/out",
+        "ns_doStep",
+        "ns_round",
+        "floor_round",
+        "floor_step",
+        "ratio",
+        "ratio_min",
+        "allocs/st",
+        "state_B"
+    );
+    for r in rows {
+        let ratio = r.ns_round / r.floor_round;
+        let target = match r.target {
+            Some(x) if ratio <= x => format!("<= {x}x: met"),
+            Some(x) => format!("<= {x}x: MISSED"),
+            None => String::new(),
+        };
+        let _ = writeln!(
+            t,
+            "{:<25} {:>4} {:>6} {:>10.1} {:>9.1} {:>11.1} {:>10.1} {:>6.1} {:>9.1} {:>9} {:>7}  {}",
+            r.variant,
+            if r.on { "on" } else { "off" },
+            format!("{}/{}", r.n_in, r.n_out),
+            r.ns_do_step,
+            r.ns_round,
+            r.floor_round,
+            r.floor_do_step,
+            ratio,
+            r.ratio_min,
+            r.allocs as f64 / r.alloc_steps as f64,
+            r.state_bytes,
+            target
+        );
+    }
+    t
+}
+
+fn csv_text(rows: &[Row]) -> String {
+    let mut t = String::from(
+        "variant,behaviours,ns_doStep_median,ns_round_median,floor_ns_round_median,ratio,allocs_per_step,state_bytes,floor_ns_doStep_median,n_inputs,n_outputs,target_ratio,ratio_min\n",
+    );
+    for r in rows {
+        let _ = writeln!(
+            t,
+            "{},{},{:.2},{:.2},{:.2},{:.3},{},{},{:.2},{},{},{},{:.3}",
+            r.variant,
+            if r.on { "on" } else { "off" },
+            r.ns_do_step,
+            r.ns_round,
+            r.floor_round,
+            r.ns_round / r.floor_round,
+            r.allocs as f64 / r.alloc_steps as f64,
+            r.state_bytes,
+            r.floor_do_step,
+            r.n_in,
+            r.n_out,
+            r.target.map_or(String::new(), |x| x.to_string()),
+            r.ratio_min
+        );
+    }
+    t
+}
+
+/// The scene of one case as JSON, for scripts/bench_fmpy.py.
+fn scene_json(v: Variant, params: &[(String, f64)]) -> String {
+    let t = table(v);
+    let (vin, sel, vout) = interface(v);
+    let path = path_of(v, &sel);
+    let name = |vr: &u32| format!("\"{}\"", t.get(*vr).unwrap().name);
+    let list = |vrs: &[u32]| vrs.iter().map(name).collect::<Vec<_>>().join(", ");
+    let mut j = String::new();
+    let _ = write!(
+        j,
+        "{{\"variant\": \"{}\", \"behaviours\": \"on\",\n  \"params\": {{",
+        name_of(v)
+    );
+    let ps: Vec<String> = params
+        .iter()
+        .map(|(n, x)| format!("\"{n}\": {x:?}"))
+        .collect();
+    let _ = write!(
+        j,
+        "{}}},\n  \"inputs\": [{}],\n  \"outputs\": [{}],\n  \"path\": [\n",
+        ps.join(", "),
+        list(&vin),
+        list(&vout)
+    );
+    let rows: Vec<String> = path
+        .chunks(vin.len())
+        .map(|r| {
+            format!(
+                "    [{}]",
+                r.iter()
+                    .map(|x| format!("{x:?}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        })
+        .collect();
+    let _ = write!(j, "{}\n  ]}}", rows.join(",\n"));
+    j
+}
+
+fn env_usize(name: &str) -> Option<usize> {
+    std::env::var(name).ok().and_then(|s| s.parse().ok())
+}
+
+fn main() {
+    let full = std::env::args().any(|a| a == "--bench");
+    let only = std::env::var("BENCH_ONLY").ok();
+    let (batches, steps) = if full { (20, 20_000) } else { (2, 1_000) };
+    let s = Settings {
+        batches: env_usize("BENCH_BATCHES").unwrap_or(batches),
+        steps: env_usize("BENCH_STEPS").unwrap_or(steps),
+        alloc_steps: if full { 10_000 } else { 1_000 },
+    };
+    let write_files = full && only.is_none();
+
+    let variants = [
+        Variant::Planar,
+        Variant::ProjectionCartesian,
+        Variant::ProjectionFlexionTorsion,
+        Variant::Bushing,
+        Variant::RadialThrust,
+    ];
+    let mut rows = vec![];
+    let mut scenes = vec![];
+    for v in variants {
+        for on in [false, true] {
+            let label = format!("{}:{}", name_of(v), if on { "on" } else { "off" });
+            if let Some(o) = &only {
+                if !(label == *o || name_of(v) == o) {
+                    continue;
+                }
+            }
+            let params = if on { params_on(v) } else { vec![] };
+            eprintln!("  {label} ...");
+            rows.push(run_case(&Case { variant: v, on }, &params, &s));
+            if on && matches!(v, Variant::Bushing | Variant::Planar) {
+                scenes.push(scene_json(v, &params));
+            }
+        }
+    }
+
+    let text = table_text(&rows, &s);
+    print!("{text}");
+    let allocs: usize = rows.iter().map(|r| r.allocs).sum();
+    println!(
+        "heap allocations: {allocs} in {} rounds after warm-up ({} per case)",
+        rows.len() * s.alloc_steps,
+        s.alloc_steps
+    );
+    if write_files {
+        let out = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("out");
+        std::fs::create_dir_all(&out).expect("create out/");
+        std::fs::write(out.join("bench_native.csv"), csv_text(&rows))
+            .expect("write out/bench_native.csv");
+        let json = format!(
+            "{{\"h\": {H:?}, \"period\": {PERIOD},\n\"scenes\": [\n{}\n]}}\n",
+            scenes.join(",\n")
+        );
+        std::fs::write(out.join("bench_scenes.json"), json).expect("write out/bench_scenes.json");
+        println!("wrote out/bench_native.csv, out/bench_scenes.json");
+    }
+    let mut failed = false;
+    for r in &rows {
+        if r.allocs != 0 {
+            eprintln!(
+                "error: {} {}: {} heap allocations in {} rounds (must be 0)",
+                r.variant,
+                if r.on { "on" } else { "off" },
+                r.allocs,
+                r.alloc_steps
+            );
+            failed = true;
+        }
+        if r.state_bytes > 1024 {
+            eprintln!(
+                "error: {} {}: serialized FMU state is {} bytes (must be <= 1024)",
+                r.variant,
+                if r.on { "on" } else { "off" },
+                r.state_bytes
+            );
+            failed = true;
+        }
+    }
+    if failed {
+        std::process::exit(1);
+    }
+}
