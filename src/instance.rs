@@ -395,7 +395,25 @@ impl ModelInstance {
 
     /// fmi2SetReal.
     pub fn set_real(&mut self, vrs: &[u32], values: &[Real]) -> FmuResult<()> {
-        self.set_batch(vrs, values, Ty::Real, "fmi2SetReal", write_real)
+        const F: &str = "fmi2SetReal";
+        // The per-step path: finite values of node inputs only, written into a copy of the
+        // inputs that is committed when all are in (all or nothing); anything else, including
+        // every error, goes through the general batch, which names the culprit.
+        self.allowed(Call::Set, F)?;
+        let mut inputs = self.s.inputs;
+        for (&vr, &x) in vrs.iter().zip(values) {
+            match self.table.get(vr).map(|v| v.field) {
+                Some(Field::Input { node, idx }) if x.is_finite() => {
+                    inputs[node as usize][idx as usize] = x;
+                }
+                _ => return self.set_batch(vrs, values, Ty::Real, F, write_real),
+            }
+        }
+        if inputs != self.s.inputs {
+            self.s.inputs = inputs;
+            self.cache = None;
+        }
+        Ok(())
     }
 
     /// fmi2SetInteger.
@@ -473,13 +491,14 @@ impl ModelInstance {
     }
 
     /// Outputs at the current inputs and committed state, cached until something changes.
-    fn outputs(&mut self, fname: &str) -> FmuResult<Outputs> {
-        if let Some(o) = self.cache {
-            return Ok(o);
+    fn outputs(&mut self, fname: &str) -> FmuResult<&Outputs> {
+        if self.cache.is_none() {
+            self.cache = Some(self.evaluate_at(&self.s.inputs, fname)?);
         }
-        let o = self.evaluate_at(&self.s.inputs, fname)?;
-        self.cache = Some(o);
-        Ok(o)
+        // just filled when it was empty
+        self.cache
+            .as_ref()
+            .ok_or_else(|| FmuError::error(format!("{fname}: no outputs")))
     }
 
     /// Checks every VR of a get call; returns whether any is an output.
@@ -495,14 +514,13 @@ impl ModelInstance {
     /// fmi2GetReal.
     pub fn get_real(&mut self, vrs: &[u32], out: &mut [Real]) -> FmuResult<()> {
         const F: &str = "fmi2GetReal";
-        let o = if self.check_get(vrs, Ty::Real, F)? {
-            Some(self.outputs(F)?)
-        } else {
-            None
-        };
+        if self.check_get(vrs, Ty::Real, F)? {
+            self.outputs(F)?;
+        }
+        let o = self.cache.as_ref();
         for (&vr, slot) in vrs.iter().zip(out.iter_mut()) {
             let v = self.var(vr, Ty::Real, F)?;
-            *slot = match (v.field, &o) {
+            *slot = match (v.field, o) {
                 (Field::Input { node, idx }, _) => self.s.inputs[node as usize][idx as usize],
                 (f, Some(o)) if v.causality == Causality::Output => read_output(o, f),
                 (f, _) => read_real_param(&self.s.params, f),
@@ -514,14 +532,13 @@ impl ModelInstance {
     /// fmi2GetInteger.
     pub fn get_integer(&mut self, vrs: &[u32], out: &mut [i32]) -> FmuResult<()> {
         const F: &str = "fmi2GetInteger";
-        let o = if self.check_get(vrs, Ty::Integer, F)? {
-            Some(self.outputs(F)?)
-        } else {
-            None
-        };
+        if self.check_get(vrs, Ty::Integer, F)? {
+            self.outputs(F)?;
+        }
+        let o = self.cache.as_ref();
         for (&vr, slot) in vrs.iter().zip(out.iter_mut()) {
             let v = self.var(vr, Ty::Integer, F)?;
-            *slot = match (v.field, &o) {
+            *slot = match (v.field, o) {
                 (Field::StopStatus(k), Some(o)) => o.cslst[k as usize],
                 (Field::Friction(FrictionField::Status), Some(o)) => o.friction.status as i32,
                 (Field::Friction(FrictionField::StatusR1), Some(o)) => o.friction.status_r1 as i32,
@@ -629,7 +646,7 @@ impl ModelInstance {
             .nodes()
             .map_err(|e| FmuError::error(format!("{F}: {}", e.message)))?;
         let (ra, rb) = (self.rates(0, &a), self.rates(1, &b));
-        let before = self.s.state;
+        let before = self.wants(Category::Events).then_some(self.s.state);
         match advance(
             self.ct,
             &self.s.params,
@@ -649,7 +666,7 @@ impl ModelInstance {
                 // branches and friction state it commits, so its outputs are that function's
                 // value (bit for bit: a restored FMU state reports what was read at saving).
                 self.cache = Some(adv.outputs);
-                if self.wants(Category::Events) {
+                if let Some(before) = before {
                     self.log_transitions(&before, &adv.state);
                 }
                 Ok(())

@@ -109,7 +109,6 @@ pub fn advance(
     let n = substeps(p, ra, rb, h)?;
     let dt = h / n as Real;
     let mut s = *st;
-    let mut last = None;
     let mut alpha_prev = flexion(&a0.q, &b0.q);
     for j in 1..=n {
         // time as t0 + j·dt, never accumulated
@@ -141,18 +140,18 @@ pub fn advance(
         if !outputs_finite(&o) {
             return Err(StepError::NotFinite(tau));
         }
+        if j == n {
+            return Ok(Advanced {
+                outputs: o,
+                state: next,
+                a,
+                b,
+            });
+        }
         s = next;
-        last = Some((o, a, b));
     }
-    match last {
-        Some((outputs, a, b)) => Ok(Advanced {
-            outputs,
-            state: s,
-            a,
-            b,
-        }),
-        None => Err(StepError::NotFinite(0.0)),
-    }
+    // n ≥ 1, so the loop returned
+    Err(StepError::NotFinite(0.0))
 }
 
 /// Whether every Real output is finite (NaN never reaches an output).
