@@ -4,6 +4,7 @@
 
 use crate::error::{Category, FmuError, FmuResult, Level};
 use crate::physics::connector::{evaluate, Extrapolation, Outputs, Params, State};
+use crate::physics::friction::{Eval, Status};
 use crate::physics::init::initial_state;
 use crate::physics::kinematics::{ConnectionType, Node, Singular};
 use crate::physics::math::{quat_from_wxyz, Real, Vec3};
@@ -472,7 +473,7 @@ impl ModelInstance {
 
     /// Outputs at the given inputs with the committed state (in initialization: with the
     /// state the instance would start from at those inputs).
-    fn evaluate_at(&self, inputs: &[NodeInputs; 2], fname: &str) -> FmuResult<Outputs> {
+    fn evaluate_at(&self, inputs: &[NodeInputs; 2], mode: Eval, fname: &str) -> FmuResult<Outputs> {
         let (a, b) =
             nodes_of(inputs).map_err(|e| FmuError::error(format!("{fname}: {}", e.message)))?;
         let st = if self.s.mode == Mode::InitializationMode {
@@ -480,7 +481,7 @@ impl ModelInstance {
         } else {
             self.s.state
         };
-        let (o, _) = evaluate(self.ct, &self.s.params, &st, &a, &b, false)
+        let (o, _) = evaluate(self.ct, &self.s.params, &st, &a, &b, mode)
             .map_err(|e| singular_error(fname, e))?;
         if !crate::physics::step::outputs_finite(&o) {
             return Err(FmuError::error(format!(
@@ -493,7 +494,7 @@ impl ModelInstance {
     /// Outputs at the current inputs and committed state, cached until something changes.
     fn outputs(&mut self, fname: &str) -> FmuResult<&Outputs> {
         if self.cache.is_none() {
-            self.cache = Some(self.evaluate_at(&self.s.inputs, fname)?);
+            self.cache = Some(self.evaluate_at(&self.s.inputs, Eval::Read, fname)?);
         }
         // just filled when it was empty
         self.cache
@@ -1041,8 +1042,14 @@ impl ModelInstance {
     /// inputs and committed state: the connector's consistent tangent (stick: stick stiffness;
     /// slip: tangent of the return map; active stops and penalties included).
     ///
+    /// A friction effect that slips at the current inputs (trial force on or beyond its limit)
+    /// is differentiated on its slip branch (`Eval::Tangent`), so the derivative where a
+    /// slipping step ended is the return map's slip tangent, not the average of the stick and
+    /// slip sides of the kink.
     /// Computed as the central difference of the kernel's output function along dknown,
-    /// (y(u + εδ) − y(u − εδ))/(2ε), ε = 1e-6·max(1, |u|)/|δ|: truncation O(ε²) relative,
+    /// (y(u + εδ) − y(u − εδ))/(2ε), ε = 1e-8·max(1, |u|)/|δ|: truncation O((ε/ℓ)²) with ℓ the
+    /// smallest length over which the response bends (an elastic stick slip of µm still gives
+    /// 1e-4 relative), round-off O(1e-16·|y|/ε), far below the stiffnesses involved;
     /// exact up to round-off for a linear connector. The committed state is not touched.
     pub fn directional_derivative(
         &mut self,
@@ -1087,7 +1094,10 @@ impl ModelInstance {
         }
         // J·δ is linear in δ: difference along δ/max|δ| and scale back by max|δ|, so that
         // neither huge nor denormal seeds make ε overflow or underflow (regression 003)
-        let eps = 1e-6 * scale;
+        let eps = 1e-8 * scale;
+        // effects slipping at the current inputs are differentiated on their slip branch
+        let here = self.outputs(F)?.friction;
+        let mode = Eval::Tangent([here.status == Status::Slip, here.status_r1 == Status::Slip]);
         let shifted = |sign: Real| {
             let mut u = self.s.inputs;
             for (&vr, &d) in knowns.iter().zip(dknown) {
@@ -1097,8 +1107,8 @@ impl ModelInstance {
             }
             u
         };
-        let plus = self.evaluate_at(&shifted(1.0), F)?;
-        let minus = self.evaluate_at(&shifted(-1.0), F)?;
+        let plus = self.evaluate_at(&shifted(1.0), mode, F)?;
+        let minus = self.evaluate_at(&shifted(-1.0), mode, F)?;
         for (&vr, slot) in unknowns.iter().zip(out.iter_mut()) {
             let v = self.var(vr, Ty::Real, F)?;
             let d =

@@ -6,7 +6,7 @@
 //! stretched spring of positive stiffness gives F_k = k·u_mat > 0; the node loads are
 //! −Σ F_k ∇c_k, i.e. the force vector f = Σ F_k e_k acts on node a as +f and on node b as −f.
 
-use super::friction::{self, FrictionOut, FrictionParams, FrictionState};
+use super::friction::{self, Eval, FrictionOut, FrictionParams, FrictionState};
 use super::kinematics::{geometry, Branches, ConnectionType, Node, Role, Singular};
 use super::math::{Real, Vec3};
 
@@ -250,8 +250,8 @@ pub struct Outputs {
 /// Outputs at nodes (a, b) given the committed state, and the state these imply
 /// (branches, stop status, friction return map) for the caller to commit.
 ///
-/// `stepping`: the evaluation ends a substep along the path (friction takes its μ afresh)
-/// rather than reading the outputs at the current inputs (see `friction::update`).
+/// `mode`: a substep along the path, a read of the outputs at the current inputs, or the
+/// evaluation behind the consistent tangent (see `friction::Eval`).
 /// Dissipated energies in the result are the committed ones; `advance` accumulates them.
 pub fn evaluate(
     ct: ConnectionType,
@@ -259,7 +259,7 @@ pub fn evaluate(
     st: &State,
     a: &Node,
     b: &Node,
-    stepping: bool,
+    mode: Eval,
 ) -> Result<(Outputs, State), Singular> {
     let roles = ct.roles();
     let g = geometry(ct, a, b, &st.branches)?;
@@ -323,7 +323,7 @@ pub fn evaluate(
             [o.crf[0], o.crf[4], o.crf[5]],
             [o.cp[1], o.cp[2], o.cp[3]],
             [o.cv[1], o.cv[2], o.cv[3]],
-            stepping,
+            mode,
         );
         o.csf[1] = fr.force[0];
         o.csf[2] = fr.force[1];

@@ -4,6 +4,19 @@
 
 use super::math::Real;
 
+/// What an evaluation of the connector is for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Eval {
+    /// A substep along the path: friction takes its μ afresh from the committed status.
+    Step,
+    /// The outputs at the current inputs: the μ of the last committed return map.
+    Read,
+    /// The consistent tangent: as `Read`, and the effects marked (sliding, spin) stay on their
+    /// limit (the slip branch of the return map): those that slip at the point where the
+    /// derivative is taken, so that it does not straddle the stick/slip kink there.
+    Tangent([bool; 2]),
+}
+
 /// Friction parameters (SPEC §3 names `friction.*`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrictionParams {
@@ -185,17 +198,20 @@ pub fn normal_loads(p: &FrictionParams, f1: Real, m2: Real, m3: Real) -> (Real, 
 ///
 /// μ: while an effect's committed status is stick, μ = μ_s (breakaway happens at μ_s N, and
 /// the elastic motion of a stuck stick spring does not lower μ and make the contact chatter);
-/// while it slips, μ = μ(relative slip speed). `stepping` takes that choice afresh (a substep
-/// of the path); otherwise the speed of the last committed return map is reused, so that
-/// evaluating the connector again where a step ended reproduces that step's forces.
+/// while it slips, μ = μ(relative slip speed). `Eval::Step` takes that choice afresh (a
+/// substep of the path); otherwise the speed of the last committed return map is reused, so
+/// that evaluating the connector again where a step ended reproduces that step's forces.
 pub fn update(
     p: &FrictionParams,
     st: &FrictionState,
     reaction: [Real; 3],
     pos: [Real; 3],
     rate: [Real; 3],
-    stepping: bool,
+    mode: Eval,
 ) -> FrictionResult {
+    let stepping = mode == Eval::Step;
+    // the slip branch of the return map, for the consistent tangent of a slipping effect
+    let on_limit = |effect: usize| matches!(mode, Eval::Tangent(slip) if slip[effect]);
     let (f_nc, m_nr1) = normal_loads(p, reaction[0], reaction[1], reaction[2]);
     let mut next = *st;
     // trial forces of the stick springs
@@ -233,23 +249,28 @@ pub fn update(
             state: next,
         };
     } else if p.coupling == 1 {
-        // ellipsoidal limit surface |(f2, f3, m1/ρ)| ≤ μ F_NC, radial return in that space
+        // ellipsoidal limit surface |(f2, f3, m1/ρ)| ≤ μ F_NC with associated flow
         let v = speed_for(st.status, slide.hypot(spin), st.mu_rate[0]);
         next.mu_rate = [v, v];
         let limit = (p.mu(v) * f_nc).min(p.max_force);
         let norm = (f_tr[0] * f_tr[0] + f_tr[1] * f_tr[1] + (m_tr / rho) * (m_tr / rho)).sqrt();
-        let (scale, status) = return_status(norm, limit, f_nc);
+        let (scale, status) = return_status(norm, limit, f_nc, on_limit(0));
         next.status = status;
         next.status_r1 = status;
-        ([f_tr[0] * scale, f_tr[1] * scale], m_tr * scale)
+        if scale == 1.0 {
+            (f_tr, m_tr)
+        } else {
+            let (a, b) = ellipsoid_return(p, rho, f_tr[0].hypot(f_tr[1]), m_tr.abs() / rho, limit);
+            ([f_tr[0] * a, f_tr[1] * a], m_tr * b)
+        }
     } else {
         // sliding: radial return in the 2–3 plane; spin: scalar return
         let v = speed_for(st.status, slide, st.mu_rate[0]);
         let v_r = speed_for(st.status_r1, spin, st.mu_rate[1]);
         next.mu_rate = [v, v_r];
         let limit = (p.mu(v) * f_nc).min(p.max_force);
-        let (scale, status) = return_status(f_tr[0].hypot(f_tr[1]), limit, f_nc);
-        let (scale_r, status_r) = return_status(m_tr.abs(), p.mu(v_r) * m_nr1, m_nr1);
+        let (scale, status) = return_status(f_tr[0].hypot(f_tr[1]), limit, f_nc, on_limit(0));
+        let (scale_r, status_r) = return_status(m_tr.abs(), p.mu(v_r) * m_nr1, m_nr1, on_limit(1));
         next.status = status;
         next.status_r1 = status_r;
         ([f_tr[0] * scale, f_tr[1] * scale], m_tr * scale_r)
@@ -285,12 +306,43 @@ fn outputs(st: &FrictionState, cnf: Real, cnm1: Real, csfc: Real, csmc1: Real) -
     }
 }
 
+/// Closest-point return onto the ellipsoid |(f, m/ρ)| = L in the energy norm of the stick
+/// springs (associated flow: the plastic slip rate (v, ω) is normal to the ellipsoid, so
+/// (f, m/ρ) ∥ (v, ρω), the Contensou coupling). With F = |f_tr|, M = |m_tr|/ρ the returned
+/// forces are f_tr/(1 + x k_s) and m_tr/(1 + x k_r/ρ²), with x the root of
+/// g(x) = F²/(1 + x k_s)² + M²/(1 + x k_r/ρ²)² − L², convex and decreasing: Newton converges
+/// monotonically once on the left of the root. Returns the two scale factors.
+fn ellipsoid_return(p: &FrictionParams, rho: Real, f: Real, m: Real, limit: Real) -> (Real, Real) {
+    let (ka, kb) = (p.k_stick, p.k_stick_r1 / (rho * rho));
+    let mut x: Real = 0.0;
+    for _ in 0..60 {
+        let (a, b) = (1.0 / (1.0 + x * ka), 1.0 / (1.0 + x * kb));
+        let g = a * a * f * f + b * b * m * m - limit * limit;
+        if g.abs() <= 1e-15 * limit * limit {
+            break;
+        }
+        let dg = -2.0 * (a * a * a * ka * f * f + b * b * b * kb * m * m);
+        let next = x - g / dg;
+        // keep 1 + x k > 0 (the tangent branch may start inside the ellipsoid, x < 0)
+        let floor = -0.5 / ka.max(kb);
+        x = if next > floor {
+            next
+        } else {
+            0.5 * (x + floor)
+        };
+    }
+    (1.0 / (1.0 + x * ka), 1.0 / (1.0 + x * kb))
+}
+
 /// Relative band around the friction limit that counts as "on the limit".
 pub const ON_LIMIT: Real = 1e-9;
 
 /// Scale factor onto the limit and the status for a trial magnitude.
 #[inline]
-fn return_status(trial: Real, limit: Real, normal: Real) -> (Real, Status) {
+fn return_status(trial: Real, limit: Real, normal: Real, on_limit: bool) -> (Real, Status) {
+    if on_limit && normal > 0.0 && trial > 0.0 {
+        return (limit / trial, Status::Slip);
+    }
     // On the limit within round-off counts as slip, with no further return: re-evaluating the
     // connector where a slip step ended puts the trial force back on the limit (to round-off,
     // either side), and that is the same slip with the same force.
@@ -374,7 +426,14 @@ mod tests {
     fn stick_then_slip_saturates_at_mu_fn() {
         let p = params();
         let st = FrictionState::default();
-        let r = update(&p, &st, [-10.0, 0.0, 0.0], [1e-4, 0.0, 0.0], [0.0; 3], true);
+        let r = update(
+            &p,
+            &st,
+            [-10.0, 0.0, 0.0],
+            [1e-4, 0.0, 0.0],
+            [0.0; 3],
+            Eval::Step,
+        );
         assert_eq!(r.out.status, Status::Stick);
         assert!((r.force[0] - 1.0).abs() < 1e-12);
         let r = update(
@@ -383,7 +442,7 @@ mod tests {
             [-10.0, 0.0, 0.0],
             [1e-2, 0.0, 0.0],
             [0.0; 3],
-            true,
+            Eval::Step,
         );
         assert_eq!(r.out.status, Status::Slip);
         assert!((r.out.csfc - 0.5 * 10.0).abs() < 1e-12);
@@ -404,13 +463,92 @@ mod tests {
             [-10.0, 0.0, 0.0],
             [1.0, 0.0, 1.0],
             [0.0; 3],
-            true,
+            Eval::Step,
         );
         let rho = 2.0 / 3.0 * 0.1;
         let lhs = (r.force[0].powi(2) + r.force[1].powi(2) + (r.force[2] / rho).powi(2)).sqrt();
         assert!((lhs - 5.0).abs() < 1e-12);
         assert_eq!(r.out.status, Status::Slip);
         assert_eq!(r.out.status_r1, Status::Slip);
+    }
+
+    /// Associated flow on the ellipsoid with unequal stick stiffnesses: the returned force is on
+    /// the surface and the plastic slip increment is normal to it, (Δs, Δs_r) ∥ (f, m/ρ²).
+    #[test]
+    fn coupled_return_is_normal_to_the_ellipsoid() {
+        let p = FrictionParams {
+            coupling: 1,
+            k_stick: 1e4,
+            k_stick_r1: 7.0, // ≠ k_s ρ² = 44.4
+            ..params()
+        };
+        let rho = 2.0 / 3.0 * 0.1;
+        let st = FrictionState::default();
+        let r = update(
+            &p,
+            &st,
+            [-10.0, 0.0, 0.0],
+            [0.3, -0.2, 2.0],
+            [0.0; 3],
+            Eval::Step,
+        );
+        let (f, m) = ([r.force[0], r.force[1]], r.force[2]);
+        let on = (f[0] * f[0] + f[1] * f[1] + (m / rho).powi(2)).sqrt();
+        assert!((on - 5.0).abs() < 1e-10, "on the ellipsoid: {on}");
+        let ds = [
+            r.state.slip_plastic[0],
+            r.state.slip_plastic[1],
+            r.state.slip_plastic_r1,
+        ];
+        let normal = [f[0], f[1], m / (rho * rho)];
+        let cross = [
+            ds[1] * normal[2] - ds[2] * normal[1],
+            ds[2] * normal[0] - ds[0] * normal[2],
+            ds[0] * normal[1] - ds[1] * normal[0],
+        ];
+        let size = |v: [f64; 3]| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        assert!(
+            size(cross) < 1e-9 * size(ds) * size(normal),
+            "flow is normal"
+        );
+    }
+
+    /// The tangent evaluation of a slipping effect stays on the slip branch: just inside the
+    /// limit it still returns the limit force (central differences see the slip tangent).
+    #[test]
+    fn tangent_mode_keeps_a_slipping_effect_on_its_limit() {
+        let p = params();
+        let slipped = update(
+            &p,
+            &FrictionState::default(),
+            [-10.0, 0.0, 0.0],
+            [1e-2, 0.0, 0.0],
+            [0.0; 3],
+            Eval::Step,
+        );
+        assert_eq!(slipped.state.status, Status::Slip);
+        let inside = [1e-2 - 1e-6, 0.0, 0.0];
+        let read = update(
+            &p,
+            &slipped.state,
+            [-10.0, 0.0, 0.0],
+            inside,
+            [0.0; 3],
+            Eval::Read,
+        );
+        let tangent = update(
+            &p,
+            &slipped.state,
+            [-10.0, 0.0, 0.0],
+            inside,
+            [0.0; 3],
+            Eval::Tangent([true, false]),
+        );
+        assert!(read.force[0] < 5.0 - 1e-3, "read: elastic unloading");
+        assert!(
+            (tangent.force[0] - 5.0).abs() < 1e-12,
+            "tangent: on the limit"
+        );
     }
 
     #[test]

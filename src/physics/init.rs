@@ -1,6 +1,7 @@
 //! The state at the end of initialization.
 
 use super::connector::{evaluate, Params, State};
+use super::friction::Eval;
 use super::kinematics::{geometry, Branches, ConnectionType, Node, Singular};
 
 /// The initial state for nodes (a, b): component positions become the initial values
@@ -20,7 +21,7 @@ pub fn initial_state(
     };
     st.friction.slip_plastic = [g.pos[1], g.pos[2]];
     st.friction.slip_plastic_r1 = g.pos[3];
-    let (_, next) = evaluate(ct, p, &st, a, b, false)?;
+    let (_, next) = evaluate(ct, p, &st, a, b, Eval::Read)?;
     st.stop_status = next.stop_status;
     st.friction.status = next.friction.status;
     st.friction.status_r1 = next.friction.status_r1;
