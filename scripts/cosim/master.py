@@ -1,0 +1,573 @@
+"""A small co-simulation master: the master owns a body, the connector FMU (fmpy FMU2Slave)
+returns the load the connector exerts on node b, and one of four coupling methods advances both
+over a macro step H.
+
+  zoh               explicit, zero-order hold
+  extrapolation     explicit, the FMU driven along the predicted body path (input derivatives)
+  linear_implicit   linear-implicit with the FMU's directional derivatives (θ-method)
+  rollback          iterative with rollback (fmi2Get/SetFMUstate) to a stated tolerance
+
+FMI calls go through fmpy's FMU2Slave function wrappers (status checked) with ctypes buffers
+prepared once per instance: a step builds no value-reference lists or ctypes arrays (fmpy's
+convenience getReal/setReal would). The body arithmetic uses small numpy temporaries.
+
+Conventions. The body has n velocity degrees of freedom u and positions p (for a 3-D body p holds
+a quaternion, and a position increment is a rotation vector applied by `retract`). Q is the
+connector's generalised load on the body (picked from the FMU outputs: b.f, b.m); the body's
+own forces (`Body.ext`: a spring to ground, gyroscopic terms) are its business:
+`Body.advance(t, p, u, Q0, Q1, H)` integrates the body under them and the connector load ramped
+linearly from Q0 to Q1 (Q1 = Q0: held) over [t, t + H], exactly where the body allows it (RK4
+for the 3-D rigid body). The linear-implicit method integrates the body itself (θ-method on
+M u' = Q + ext, M the mass matrix) since it must treat body and connector together.
+"""
+from __future__ import annotations
+
+import ctypes
+import math
+import os
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+from fmpy import extract, read_model_description
+from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import FMU2Slave, fmi2FMUstate, fmi2Integer, fmi2Real, fmi2ValueReference
+
+REPO = Path(__file__).resolve().parents[2]
+DIST = Path(os.environ.get("COSIM_DIST", REPO / "dist"))     # the FMUs (default: dist/)
+_UNZIPPED: dict = {}
+_MD: dict = {}
+
+
+class CosimFailure(RuntimeError):
+    """A run that cannot go on: the FMU refused a step, the state blew up, rollback diverged."""
+
+
+def model_description(variant):
+    if variant not in _MD:
+        path = DIST / f"{variant}.fmu"
+        if not path.is_file():
+            raise SystemExit(f"error: {path} is missing; run ./scripts/run first")
+        _MD[variant] = read_model_description(str(path))
+    return _MD[variant]
+
+
+def unzipped(variant, unzipdir=None):
+    if unzipdir is not None:
+        return str(unzipdir)
+    if variant not in _UNZIPPED:
+        _UNZIPPED[variant] = extract(str(DIST / f"{variant}.fmu"),
+                                     tempfile.mkdtemp(prefix=f"cosim-{variant}-"))
+    return _UNZIPPED[variant]
+
+
+class Connector:
+    """One connector FMU instance, initialised, with every per-step call prepared once.
+
+    `in_names`: the inputs the master writes each step (buffer `x`, derivatives `d`);
+    `out_names`: the outputs it reads each step (buffer `y`)."""
+
+    _count = 0
+
+    def __init__(self, variant, params, init_inputs, in_names, out_names, unzipdir=None):
+        md = model_description(variant)
+        self.vr = {v.name: v for v in md.modelVariables}
+        Connector._count += 1
+        s = FMU2Slave(guid=md.guid, unzipDirectory=unzipped(variant, unzipdir),
+                      modelIdentifier=md.coSimulation.modelIdentifier,
+                      instanceName=f"{variant}-{Connector._count}")
+        s.instantiate()
+        s.setupExperiment(startTime=0.0)
+        s.enterInitializationMode()
+        self._set_by_type(s, params)
+        self._set_by_type(s, init_inputs)
+        s.exitInitializationMode()
+        self.s, self.c = s, s.component
+        nin, nout = len(in_names), len(out_names)
+        self.nin, self.nout = nin, nout
+        self.vin = (fmi2ValueReference * nin)(*[self.vr[n].valueReference for n in in_names])
+        self.vout = (fmi2ValueReference * nout)(*[self.vr[n].valueReference for n in out_names])
+        self.xin, self.yout = (fmi2Real * nin)(), (fmi2Real * nout)()
+        self.din, self.order = (fmi2Real * nin)(), (fmi2Integer * nin)(*([1] * nin))
+        self.seed_c, self.dd_c = (fmi2Real * nin)(), (fmi2Real * nout)()
+        # numpy views on the ctypes buffers: writing x[...] fills the FMI argument in place
+        self.x, self.y, self.d = (np.ctypeslib.as_array(b) for b in (self.xin, self.yout, self.din))
+        self.seed, self.dd = np.ctypeslib.as_array(self.seed_c), np.ctypeslib.as_array(self.dd_c)
+        self.state = fmi2FMUstate()
+        self.state_ref = ctypes.byref(self.state)
+        # fmpy's wrappers of the C functions (argument types set, status checked)
+        self._setReal, self._getReal = s.fmi2SetReal, s.fmi2GetReal
+        self._setDer, self._doStep = s.fmi2SetRealInputDerivatives, s.fmi2DoStep
+        self._dd, self._get, self._set = (s.fmi2GetDirectionalDerivative, s.fmi2GetFMUstate,
+                                          s.fmi2SetFMUstate)
+        self.calls = 0          # FMI calls made through the per-step paths
+
+    def _set_by_type(self, s, values):
+        for name, val in values.items():
+            v = self.vr[name]
+            {"Real": s.setReal, "Integer": s.setInteger, "Boolean": s.setBoolean}[v.type](
+                [v.valueReference], [val])
+
+    # --- per-step calls (prepared buffers only) ------------------------------------------------
+    def set_inputs(self):
+        self._setReal(self.c, self.vin, self.nin, self.xin)
+        self.calls += 1
+
+    def get_outputs(self):
+        self._getReal(self.c, self.vout, self.nout, self.yout)
+        self.calls += 1
+        return self.y
+
+    def set_rates(self):
+        self._setDer(self.c, self.vin, self.nin, self.order, self.din)
+        self.calls += 1
+
+    def do_step(self, t, H, no_rollback=True):
+        self._doStep(self.c, t, H, no_rollback)
+        self.calls += 1
+
+    def directional(self, seed):
+        """J·seed: derivatives of the outputs along `seed` (over the written inputs)."""
+        self.seed[:] = seed
+        self._dd(self.c, self.vout, self.nout, self.vin, self.nin, self.seed_c, self.dd_c)
+        self.calls += 1
+        return self.dd
+
+    def save(self):
+        self._get(self.c, self.state_ref)      # overwrites the same state in place after the first
+        self.calls += 1
+
+    def restore(self):
+        self._set(self.c, self.state)
+        self.calls += 1
+
+    # --- slow paths (set-up, monitoring) -------------------------------------------------------
+    def read(self, names):
+        out = []
+        for n in names:
+            v = self.vr[n]
+            get = {"Real": self.s.getReal, "Integer": self.s.getInteger}[v.type]
+            out.append(get([v.valueReference])[0])
+        return out
+
+    def set(self, values):
+        self._set_by_type(self.s, values)
+
+    def close(self):
+        if self.s is not None:
+            if self.state:
+                self.s.freeFMUstate(self.state)
+            self.s.terminate()
+            self.s.freeInstance()
+            self.s = None
+
+
+# =================================================================================================
+# bodies owned by the master
+# =================================================================================================
+def quat_mul(p, q):
+    pw, px, py, pz = p
+    qw, qx, qy, qz = q
+    return np.array([pw * qw - px * qx - py * qy - pz * qz, pw * qx + px * qw + py * qz - pz * qy,
+                     pw * qy - px * qz + py * qw + pz * qx, pw * qz + px * qy - py * qx + pz * qw])
+
+
+def quat_exp(th):
+    a = math.sqrt(th[0] * th[0] + th[1] * th[1] + th[2] * th[2])
+    s = 0.5 if a < 1e-8 else math.sin(0.5 * a) / a
+    return np.array([math.cos(0.5 * a), s * th[0], s * th[1], s * th[2]])
+
+
+def quat_log(q):
+    """Rotation vector of a unit quaternion (shortest)."""
+    w, v = q[0], q[1:]
+    if w < 0:
+        w, v = -w, -v
+    s = math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+    return (2.0 * math.atan2(s, w) / s) * v if s > 1e-12 else 2.0 * v
+
+
+def quat_matrix(q):
+    w, x, y, z = q
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+
+
+class AxesBody:
+    """A body whose degrees of freedom are translations along, and rotations about, fixed world
+    axes (no gyroscopic coupling), each with a mass (or moment of inertia) and an optional
+    linear spring to ground. Node b = the body; node a = `node_a(t)` (fixed or moving at a
+    constant velocity). With a ramped load the motion is integrated exactly per coordinate.
+
+    coords: list of ('r', i) (translation along world axis i, 1..3) or ('w', i) (rotation
+    about world axis i; the node-b quaternion is the rotation about that axis)."""
+
+    def __init__(self, coords, mass, k_ground=None, node_a=None, load_names=None):
+        self.coords = coords
+        self.n = len(coords)
+        self.m = np.asarray(mass, float)
+        self.kg = np.zeros(self.n) if k_ground is None else np.asarray(k_ground, float)
+        self.M = np.diag(self.m)
+        self.node_a = node_a            # None, or (axis i, velocity): a.r[i] = v t, a.v[i] = v
+        names = []
+        if node_a is not None:
+            names.append(f"a.r[{node_a[0]}]")
+        for kind, i in coords:
+            names += [f"b.r[{i}]"] if kind == "r" else ["b.q.w", f"b.q.{'xyz'[i - 1]}"]
+        for kind, i in coords:
+            names.append(f"b.v[{i}]" if kind == "r" else f"b.w[{i}]")
+        self.in_names = names
+        self.load_names = load_names or [f"b.f[{i}]" if k == "r" else f"b.m[{i}]" for k, i in coords]
+        # where each coordinate's position entries start in the input vector
+        self._pos, j = [], (1 if node_a is not None else 0)
+        for kind, _ in coords:
+            self._pos.append(j)
+            j += 1 if kind == "r" else 2
+        self._vel = list(range(j, j + self.n))
+        self.rot = np.array([k == "w" for k, _ in coords])
+        self.Kext, self.Dext = -np.diag(self.kg), np.zeros((self.n, self.n))
+
+    def inputs(self, t, p, u, x):
+        if self.node_a is not None:
+            x[0] = self.node_a[1] * t
+        for j, (kind, _) in enumerate(self.coords):
+            k = self._pos[j]
+            if kind == "r":
+                x[k] = p[j]
+            else:
+                x[k], x[k + 1] = math.cos(0.5 * p[j]), math.sin(0.5 * p[j])
+            x[self._vel[j]] = u[j]
+
+    def rates(self, t, H, p0, u0, p1, u1, d):
+        if self.node_a is not None:
+            d[0] = self.node_a[1]
+        for j, (kind, _) in enumerate(self.coords):
+            k, rate = self._pos[j], (p1[j] - p0[j]) / H
+            if kind == "r":
+                d[k] = rate
+            else:   # q̇ of the rotation about a fixed axis at p0, angular rate = chord rate
+                d[k], d[k + 1] = -0.5 * math.sin(0.5 * p0[j]) * rate, 0.5 * math.cos(0.5 * p0[j]) * rate
+            d[self._vel[j]] = (u1[j] - u0[j]) / H
+
+    def seeds(self, p, S):
+        """S[:, j] = ∂inputs/∂p_j, S[:, n + j] = ∂inputs/∂u_j."""
+        S[:] = 0.0
+        for j, (kind, _) in enumerate(self.coords):
+            k = self._pos[j]
+            if kind == "r":
+                S[k, j] = 1.0
+            else:
+                S[k, j], S[k + 1, j] = -0.5 * math.sin(0.5 * p[j]), 0.5 * math.cos(0.5 * p[j])
+            S[self._vel[j], self.n + j] = 1.0
+
+    def mass(self, p):
+        return self.M
+
+    def ext(self, t, p, u):
+        return -self.kg * p
+
+    def ext_jac(self, t, p, u):
+        return self.Kext, self.Dext
+
+    def retract(self, p, dp):
+        return p + dp
+
+    def dist(self, p1, p2):
+        return float(np.max(np.abs(p1 - p2)))
+
+    def kinetic(self, p, u):
+        return 0.5 * float(np.dot(self.m, u * u))
+
+    def advance(self, t, p, u, Q0, Q1, H):
+        """Exact motion of m x'' + k_g x = Q0 + (Q1 − Q0) τ/H per coordinate."""
+        m, k = self.m, self.kg
+        if not k.any():
+            return (p + H * u + (H * H / 6.0) * (2.0 * Q0 + Q1) / m, u + (0.5 * H) * (Q0 + Q1) / m)
+        p1, u1 = np.empty(self.n), np.empty(self.n)
+        for j in range(self.n):
+            if k[j] == 0.0:
+                p1[j] = p[j] + H * u[j] + H * H * (2.0 * Q0[j] + Q1[j]) / (6.0 * m[j])
+                u1[j] = u[j] + 0.5 * H * (Q0[j] + Q1[j]) / m[j]
+            else:
+                w, s = math.sqrt(k[j] / m[j]), (Q1[j] - Q0[j]) / H
+                A, B = p[j] - Q0[j] / k[j], (u[j] - s / k[j]) / w
+                c, sn = math.cos(w * H), math.sin(w * H)
+                p1[j] = Q1[j] / k[j] + A * c + B * sn
+                u1[j] = s / k[j] - A * w * sn + B * w * c
+        return p1, u1
+
+
+class RigidBody:
+    """A rigid body in 3-D: p = (r, q) (position, scalar-first quaternion body → W), u = (v, ω)
+    with ω in W. Node b = the body's centre of mass and principal frame; node a is fixed (set at
+    initialisation). Integrated with classical RK4 on (r, q, v, ω_body) in substeps that turn
+    the body by at most `max_turn` rad (Euler's equations, gyroscopic term exact)."""
+
+    n = 6
+    in_names = ([f"b.r[{i}]" for i in (1, 2, 3)] + ["b.q.w", "b.q.x", "b.q.y", "b.q.z"]
+                + [f"b.v[{i}]" for i in (1, 2, 3)] + [f"b.w[{i}]" for i in (1, 2, 3)])
+    load_names = [f"b.f[{i}]" for i in (1, 2, 3)] + [f"b.m[{i}]" for i in (1, 2, 3)]
+
+    def __init__(self, mass, inertia, max_turn=0.05):
+        self.m, self.J = float(mass), np.asarray(inertia, float)
+        self.max_turn = max_turn
+        self.Z = np.zeros((6, 6))
+
+    def inputs(self, t, p, u, x):
+        x[0:7] = p
+        x[7:13] = u
+
+    def rates(self, t, H, p0, u0, p1, u1, d):
+        d[0:3] = (p1[:3] - p0[:3]) / H
+        th = quat_log(quat_mul(p1[3:], p0[3:] * np.array([1.0, -1.0, -1.0, -1.0])))
+        d[3:7] = 0.5 * quat_mul(np.concatenate(([0.0], th / H)), p0[3:])
+        d[7:13] = (u1 - u0) / H
+
+    def seeds(self, p, S):
+        S[:] = 0.0
+        q = p[3:]
+        for j in range(3):
+            S[j, j] = 1.0
+            e = np.zeros(4)
+            e[1 + j] = 0.5
+            S[3:7, 3 + j] = quat_mul(e, q)       # δq = ½ (0, δθ) ⊗ q, δθ in W
+            S[7 + j, 6 + j] = 1.0
+            S[10 + j, 9 + j] = 1.0
+
+    def inertia_w(self, q):
+        R = quat_matrix(q)
+        return R @ np.diag(self.J) @ R.T
+
+    def mass(self, p):
+        M = np.zeros((6, 6))
+        M[0, 0] = M[1, 1] = M[2, 2] = self.m
+        M[3:, 3:] = self.inertia_w(p[3:])
+        return M
+
+    def ext(self, t, p, u):
+        w = u[3:]
+        return np.concatenate((np.zeros(3), -np.cross(w, self.inertia_w(p[3:]) @ w)))
+
+    def ext_jac(self, t, p, u):
+        return self.Z, self.Z        # gyroscopic term treated explicitly
+
+    def retract(self, p, dp):
+        q = quat_mul(quat_exp(dp[3:]), p[3:])
+        return np.concatenate((p[:3] + dp[:3], q / np.linalg.norm(q)))
+
+    def dist(self, p1, p2):
+        dq = quat_mul(p2[3:], p1[3:] * np.array([1.0, -1.0, -1.0, -1.0]))
+        return max(float(np.max(np.abs(p1[:3] - p2[:3]))), 2.0 * float(np.max(np.abs(dq[1:]))))
+
+    def kinetic(self, p, u):
+        w = u[3:]
+        return 0.5 * self.m * float(u[:3] @ u[:3]) + 0.5 * float(w @ self.inertia_w(p[3:]) @ w)
+
+    def advance(self, t, p, u, Q0, Q1, H):
+        R0 = quat_matrix(p[3:])
+        wb0 = R0.T @ u[3:]
+        nsub = max(1, math.ceil(float(np.linalg.norm(wb0)) * H / self.max_turn))
+        h, J, m = H / nsub, self.J, self.m
+        def f(tau, r, q, v, wb):
+            Q = Q0 + (Q1 - Q0) * (tau / H)
+            R = quat_matrix(q)
+            dwb = (R.T @ Q[3:] - np.cross(wb, J * wb)) / J
+            dq = 0.5 * quat_mul(q, np.array([0.0, wb[0], wb[1], wb[2]]))
+            return v, dq, Q[:3] / m, dwb
+
+        r, q, v, wb = p[:3].copy(), p[3:].copy(), u[:3].copy(), wb0
+        for i in range(nsub):
+            tau = i * h
+            k1 = f(tau, r, q, v, wb)
+            k2 = f(tau + h / 2, *(s + (h / 2) * k for s, k in zip((r, q, v, wb), k1)))
+            k3 = f(tau + h / 2, *(s + (h / 2) * k for s, k in zip((r, q, v, wb), k2)))
+            k4 = f(tau + h, *(s + h * k for s, k in zip((r, q, v, wb), k3)))
+            r, q, v, wb = (s + (h / 6) * (a + 2 * b + 2 * c + d)
+                           for s, a, b, c, d in zip((r, q, v, wb), k1, k2, k3, k4))
+            q = q / np.linalg.norm(q)
+        return np.concatenate((r, q)), np.concatenate((v, quat_matrix(q) @ wb))
+
+
+# =================================================================================================
+# the coupled system and the four methods
+# =================================================================================================
+class Coupled:
+    """A body, its state (p, u) and one connector FMU, wired for the methods below."""
+
+    def __init__(self, body, fmu, p0, u0, theta=1.0, tol=1e-10, max_iter=50):
+        self.body, self.fmu = body, fmu
+        self.p, self.u = np.array(p0, float), np.array(u0, float)
+        n = body.n
+        self.S = np.zeros((fmu.nin, 2 * n))
+        self.K, self.D = np.zeros((n, n)), np.zeros((n, n))
+        self.theta, self.tol, self.max_iter = theta, tol, max_iter
+        self.iterations = 0          # rollback iterations in total
+
+    def put_state(self, t, p, u):
+        """Inputs = node a at t, node b = the body at (p, u)."""
+        self.body.inputs(t, p, u, self.fmu.x)
+        self.fmu.set_inputs()
+
+    def put_path(self, t, H, p0, u0, p1, u1):
+        """Inputs at (p0, u0) and input derivatives along the chord to (p1, u1) over H."""
+        self.put_state(t, p0, u0)
+        self.body.rates(t, H, p0, u0, p1, u1, self.fmu.d)
+        self.fmu.set_rates()
+
+    def load(self):
+        """The connector's generalised load on the body at the inputs just set (a copy)."""
+        return self.fmu.get_outputs()[:self.body.n].copy()
+
+    def jacobian(self, t, p, u):
+        """K = ∂Q/∂p, D = ∂Q/∂u from the FMU's directional derivatives at the current inputs
+        and committed state, plus the body's own (ground spring)."""
+        n = self.body.n
+        self.body.seeds(p, self.S)
+        for j in range(2 * n):
+            col = self.fmu.directional(self.S[:, j])[:n]
+            (self.K[:, j] if j < n else self.D[:, j - n])[:] = col
+        Ke, De = self.body.ext_jac(t, p, u)
+        return self.K + Ke, self.D + De
+
+
+def zoh(c, t, H):
+    """1. Explicit, zero-order hold (cosim.extrapolation = 0): the FMU holds node b at x(t);
+    the body feels the load F(x(t), v(t)) constant over [t, t + H]."""
+    c.put_state(t, c.p, c.u)
+    c.fmu.do_step(t, H)
+    Q = c.load()
+    c.p, c.u = c.body.advance(t, c.p, c.u, Q, Q, H)
+
+
+def extrapolation(c, t, H):
+    """2. Explicit with input extrapolation: predict the body's end state with F(t) held, drive
+    the FMU along that path (input derivatives), then integrate the body with the load ramped
+    from F(t) to the FMU's F at the predicted end state."""
+    c.put_state(t, c.p, c.u)
+    Q0 = c.load()                                              # evaluated, not committed
+    p1, u1 = c.body.advance(t, c.p, c.u, Q0, Q0, H)            # predictor
+    c.put_path(t, H, c.p, c.u, p1, u1)
+    c.fmu.do_step(t, H)
+    Q1 = c.load()
+    c.p, c.u = c.body.advance(t, c.p, c.u, Q0, Q1, H)          # corrector
+
+
+def linear_implicit(c, t, H):
+    """3. Linear-implicit: linearise the load about the explicit predictor (x + H v, v) with the
+    FMU's directional derivatives K = ∂Q/∂x, D = ∂Q/∂v and take a θ-method step,
+        (M − θ H D − θ² H² K) Δv = H ((1 − θ) Q(t) + θ Q_pred),
+        v ← v + Δv,  x ← x + H (v + θ Δv);
+    then commit the FMU along that chord. θ = 1: linearised implicit Euler; ½: trapezoidal."""
+    # (Linearised about the predictor, not at x(t): at the committed state of a slipping friction
+    # contact the trial force sits exactly on the friction limit, and the FMU's central-difference
+    # tangent there is half the stick stiffness; at the predictor it is the slip or stick tangent.
+    # For a linear connector both are the same.)
+    th, b = c.theta, c.body
+    c.put_state(t, c.p, c.u)
+    Q0 = c.load() + b.ext(t, c.p, c.u)
+    pp = b.retract(c.p, H * c.u)                                # predictor, a trial evaluation
+    c.put_state(t + H, pp, c.u)                                 # (node a at t + H)
+    Qp = c.load() + b.ext(t + H, pp, c.u)
+    K, D = c.jacobian(t + H, pp, c.u)
+    A = b.mass(c.p) - th * H * D - th * th * H * H * K
+    du = np.linalg.solve(A, H * ((1.0 - th) * Q0 + th * Qp))
+    p1, u1 = b.retract(c.p, H * (c.u + th * du)), c.u + du
+    c.put_path(t, H, c.p, c.u, p1, u1)
+    c.fmu.do_step(t, H)                                         # commit along the chord
+    c.p, c.u = p1, u1
+
+
+def rollback(c, t, H):
+    """4. Iterative with rollback: fixed point on the end state (p1, u1). Each pass restores the
+    FMU state saved at t, drives the FMU along the chord to (p1, u1), and integrates the body
+    with the load ramped from F(t) to that F(t + H); stop when the end position moves by
+    <= c.tol (and H·velocity likewise), at most c.max_iter passes, else CosimFailure."""
+    b = c.body
+    c.put_state(t, c.p, c.u)
+    Q0 = c.load()
+    c.fmu.save()
+    p1, u1 = b.advance(t, c.p, c.u, Q0, Q0, H)                  # first guess: held load
+    for k in range(c.max_iter):
+        if k:
+            c.fmu.restore()
+        c.put_path(t, H, c.p, c.u, p1, u1)
+        c.fmu.do_step(t, H, no_rollback=False)
+        Q1 = c.load()
+        p2, u2 = b.advance(t, c.p, c.u, Q0, Q1, H)
+        change = max(b.dist(p1, p2), H * float(np.max(np.abs(u2 - u1))))
+        p1, u1 = p2, u2
+        if change <= c.tol:
+            break
+        first = change if k == 0 else first
+        if change > 1e8 * first:
+            raise CosimFailure(f"rollback: diverging at t = {t:g} (pass {k + 1})")
+    else:
+        raise CosimFailure(f"rollback: no convergence to {c.tol:g} in {c.max_iter} passes at t = {t:g}")
+    c.iterations += k + 1
+    c.p, c.u = p1, u1
+
+
+METHODS = {"zoh": zoh, "extrapolation": extrapolation, "linear_implicit": linear_implicit,
+           "rollback": rollback}
+LABELS = {"zoh": "explicit, zero-order hold", "extrapolation": "explicit, input extrapolation",
+          "linear_implicit": "linear-implicit (directional derivatives)",
+          "rollback": "iterative with rollback"}
+
+
+class Result:
+    """Samples of a run: t (N+1), p (N+1, np), u (N+1, n), extra (N+1, k) monitored outputs
+    (read at the body state at each sample), cpu (s, stepping only), and the call counts."""
+
+    def __init__(self, **kw):
+        self.__dict__.update(kw)
+
+
+def simulate(scene, method, H, t_end=None, unzipdir=None, record=None, fail_ok=True):
+    """Run `scene` with `method` at macro step H up to t_end (default scene.t_end). `record`:
+    names of extra Real outputs to sample at every communication point (slow path)."""
+    t_end = scene.t_end if t_end is None else t_end
+    N = int(round(t_end / H))
+    body = scene.body()
+    params = dict(scene.params)
+    params["cosim.extrapolation"] = 0 if method == "zoh" else 1
+    fmu = Connector(scene.variant, params, scene.init_inputs(), body.in_names,
+                    body.load_names + list(record or []), unzipdir=unzipdir)
+    try:
+        scene.after_init(fmu)
+        c = Coupled(body, fmu, *scene.initial_state(), **scene.method_options(method))
+        step = METHODS[method]
+        nr = len(record or [])
+        P, U = np.empty((N + 1, c.p.size)), np.empty((N + 1, body.n))
+        X = np.empty((N + 1, nr))
+        P[0], U[0] = c.p, c.u
+        failed, t = None, 0.0
+        if nr:
+            c.put_state(0.0, c.p, c.u)
+            X[0] = fmu.get_outputs()[body.n:]
+        cpu, clock = 0.0, time.process_time
+        for i in range(N):
+            c0 = clock()
+            try:
+                step(c, t, H)
+            except (FMICallException, CosimFailure, np.linalg.LinAlgError) as e:
+                failed = f"t = {t:.6g}: {e}"
+            cpu += clock() - c0
+            t = (i + 1) * H
+            if failed is None and not (np.all(np.isfinite(c.p)) and np.all(np.isfinite(c.u))
+                                       and np.max(np.abs(c.u)) < scene.blowup):
+                failed = f"t = {t:.6g}: state blew up"
+            if failed is not None:
+                P, U, X = P[:i + 1], U[:i + 1], X[:i + 1]
+                if not fail_ok:
+                    raise CosimFailure(failed)
+                break
+            P[i + 1], U[i + 1] = c.p, c.u
+            if nr:   # monitored outputs at the body state (direct feedthrough, not committed)
+                c.put_state(t, c.p, c.u)
+                X[i + 1] = fmu.get_outputs()[body.n:]
+        return Result(t=H * np.arange(len(P)), p=P, u=U, extra=X, cpu=cpu, steps=len(P) - 1,
+                      calls=fmu.calls, iterations=c.iterations, failed=failed, H=H, method=method)
+    finally:
+        fmu.close()

@@ -1,0 +1,162 @@
+#!/usr/bin/env python3
+"""Stability map for SCENES §7: a master-owned mass on the connector's spring k and damper c
+(RadialThrust, axial component; ω = sqrt(k/m), ζ = c/(2 m ω)). For each coupling method and
+damping ratio ζ, the one-macro-step map is measured through the FMU (scenes.OneStepMap) and the
+largest stable ωH (spectral radius <= 1 + 1e-9) is found on a log grid of ωH in [1e-3, 1e3]
+refined by bisection to 1e-4 relative. Set beside the closed forms: zero-order hold
+ωH < min(4ζ, 1/ζ) (never stable at ζ = 0, ρ = sqrt(1 + (ωH)²/2)); rollback converges for
+ωH²/6 + ζ ωH < 1 (ωH < √6 ≈ 2.449 at ζ = 0); linear-implicit unconditionally stable;
+extrapolation from its closed-form amplification matrix (scenes.amplification).
+
+    .venv/bin/python scripts/stability_map.py [--out out]
+
+Writes out/stability_map.csv (largest stable ωH per method and ζ, measured and closed form;
+and the spectral radius against ωH at ζ = 0) and out/stability_map.png.
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import math
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+import matplotlib  # noqa: E402
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from cosim.master import LABELS, METHODS  # noqa: E402
+from cosim.scenes import (OneStepMap, amplification, bound_closed_form, largest_stable,  # noqa: E402
+                          spectral_radius)
+
+REPO = Path(__file__).resolve().parents[1]
+ZETAS = [0.0, 0.01, 0.02, 0.05, 0.1, 0.2, 0.3, 0.5, 0.7, 1.0, 1.5, 2.0]
+H_LO, H_HI = 1e-3, 1e3
+TOL = 1e-9
+RHO_H = np.geomspace(1e-2, 1e2, 25)
+STYLE = {"zoh": ("C3", "o"), "extrapolation": ("C1", "s"), "linear_implicit": ("C0", "D"),
+         "rollback": ("C2", "^")}
+
+
+def measure(log=print):
+    limits, rhos = [], []
+    for method in METHODS:
+        for zeta in ZETAS:
+            probe = OneStepMap(method, zeta)
+            try:
+                hmax = largest_stable(lambda h: probe.rho(h) <= 1 + TOL, H_LO, H_HI)
+                if zeta == 0.0:
+                    rhos += [{"method": method, "omegaH": h, "rho": probe.rho(h),
+                              "rho_closed_form": closed_rho(method, h)} for h in RHO_H]
+            finally:
+                probe.close()
+            cf = bound_closed_form(method, zeta)
+            limits.append({"method": method, "zeta": zeta, "largest_stable_omegaH": hmax,
+                           "closed_form": cf, "evaluations": probe.evaluations})
+            log(f"  {method:16s} zeta={zeta:<5g} largest stable wH = {hmax:.6g}  (closed form {cf:.6g})")
+    return limits, rhos
+
+
+def label(method):
+    return LABELS[method] + (", θ = 1" if method == "linear_implicit" else "")
+
+
+def closed_rho(method, h):
+    """Closed-form spectral radius at ζ = 0 (for ZOH it is sqrt(1 + (ωH)²/2) up to ωH = 4, where
+    the eigenvalues turn real and it grows faster)."""
+    if method == "rollback" and h * h / 6 >= 1:
+        return math.inf            # the iteration diverges
+    return spectral_radius(amplification(method, h, 0.0))
+
+
+def write_csv(limits, rhos, path):
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["kind", "method", "zeta", "omegaH", "measured", "closed_form", "evaluations"])
+        for r in limits:
+            w.writerow(["largest_stable_omegaH", r["method"], r["zeta"], "",
+                        f"{r['largest_stable_omegaH']:.6g}", f"{r['closed_form']:.6g}", r["evaluations"]])
+        for r in rhos:
+            w.writerow(["spectral_radius", r["method"], 0.0, f"{r['omegaH']:.6g}", f"{r['rho']:.12g}",
+                        f"{r['rho_closed_form']:.12g}", ""])
+
+
+def plot(limits, rhos, path):
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(14, 5.8))
+    zf = np.concatenate(([0.0], np.geomspace(1e-3, 2.0, 300)))
+    floor, ceil = H_LO / 3, H_HI * 3
+    for method in METHODS:
+        color, marker = STYLE[method]
+        rs = [r for r in limits if r["method"] == method]
+        z = np.array([r["zeta"] for r in rs])
+        m = np.array([r["largest_stable_omegaH"] for r in rs])
+        shown = np.clip(np.where(m <= 0, floor, m), floor, ceil)
+        ax.plot(z, shown, color=color, marker=marker, ls="none", ms=7, label=f"{label(method)} (measured)")
+        if method in ("zoh", "rollback", "extrapolation"):
+            cf = np.array([bound_closed_form(method, zz) for zz in zf]) if method != "extrapolation" \
+                else np.array([r["closed_form"] for r in rs])
+            zz = zf if method != "extrapolation" else z
+            ax.plot(zz, np.clip(np.where(cf <= 0, floor, cf), floor, ceil), color=color, lw=1.2,
+                    ls="--" if method == "extrapolation" else "-")
+    ax.annotate("ZOH: unstable at every H for ζ = 0", (0.0, floor), xytext=(0.12, floor * 3),
+                fontsize=8, color="C3", arrowprops=dict(arrowstyle="->", color="C3"))
+    ax.axhline(H_HI, color="C0", lw=0.8, ls=":")
+    ax.text(1.0, H_HI * 0.5, f"linear-implicit: stable up to ωH = {H_HI:g} (top of the search)",
+            fontsize=8, color="C0", ha="center")
+    ax.set_yscale("log")
+    ax.set_ylim(floor / 1.5, ceil * 2)
+    ax.set_xlabel("damping ratio ζ")
+    ax.set_ylabel("largest stable ωH")
+    ax.set_title("Largest stable ωH per method (markers: measured through the FMU;\n"
+                 "lines: ZOH min(4ζ, 1/ζ), rollback 3(√(ζ²+2/3) − ζ), dashed: extrapolation closed form)",
+                 fontsize=9)
+    ax.grid(True, which="both", alpha=0.25)
+    ax.legend(fontsize=8, loc="lower right")
+
+    hh = np.geomspace(RHO_H[0], RHO_H[-1], 400)
+    for method in METHODS:
+        color, marker = STYLE[method]
+        rs = [r for r in rhos if r["method"] == method]
+        x = np.array([r["omegaH"] for r in rs])
+        y = np.array([r["rho"] for r in rs])
+        fin = np.isfinite(y)
+        bx.plot(x[fin], y[fin], color=color, marker=marker, ls="none", ms=6, label=label(method))
+        if (~fin).any():
+            bx.plot(x[~fin], np.full((~fin).sum(), 40.0), color=color, marker="x", ls="none", ms=7)
+        cr = np.array([closed_rho(method, h) for h in hh])
+        bx.plot(hh, np.where(np.isfinite(cr), cr, np.nan), color=color, lw=1)
+    bx.axhline(1.0, color="k", lw=0.8)
+    bx.set_xscale("log")
+    bx.set_yscale("log")
+    bx.set_ylim(0.05, 60)
+    bx.set_xlabel("ωH")
+    bx.set_ylabel("spectral radius of the one-step map")
+    bx.set_title("ζ = 0: spectral radius (markers: measured; lines: closed form; ZOH = √(1+(ωH)²/2)\n"
+                 "up to ωH = 4, real eigenvalues beyond; × at the top: rollback did not converge)", fontsize=9)
+    bx.grid(True, which="both", alpha=0.25)
+    bx.legend(fontsize=8, loc="upper left")
+    fig.suptitle("§7 co-simulation stability: mass on the connector's spring-damper (RadialThrust, axial)",
+                 fontsize=11)
+    fig.tight_layout(rect=(0, 0, 1, 0.95))
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--out", default=str(REPO / "out"))
+    args = ap.parse_args(argv)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    print("==> stability map (§7)")
+    limits, rhos = measure()
+    write_csv(limits, rhos, out / "stability_map.csv")
+    plot(limits, rhos, out / "stability_map.png")
+    print(f"  wrote {out / 'stability_map.csv'} and .png")
+
+
+if __name__ == "__main__":
+    main()
