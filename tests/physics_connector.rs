@@ -3,6 +3,7 @@
 //! a damped, stopped, frictional connector along a driven path.
 
 use connector_fmu::physics::connector::{evaluate, Params, State};
+use connector_fmu::physics::friction::Eval;
 use connector_fmu::physics::init::initial_state;
 use connector_fmu::physics::kinematics::{ConnectionType, Node};
 use connector_fmu::physics::math::{Quat, Vec3};
@@ -64,7 +65,7 @@ fn node_loads_are_in_equilibrium() {
                 continue;
             };
             let (a, b) = (rng.node(0.8), rng.node(0.8));
-            let Ok((o, _)) = evaluate(ct, &p, &st, &a, &b, false) else {
+            let Ok((o, _)) = evaluate(ct, &p, &st, &a, &b, Eval::Read) else {
                 continue;
             };
             let scale = 1.0 + o.fa.norm() + o.ma.norm() + o.mb.norm();
@@ -101,9 +102,9 @@ fn elastic_loads_are_minus_energy_gradient() {
             };
             let a = moved(&a0, rng.vec(0.05), rng.vec(0.2));
             let b = moved(&b0, rng.vec(0.05), rng.vec(0.2));
-            let (o, _) = evaluate(ct, &p, &st, &a, &b, false).expect("regular");
+            let (o, _) = evaluate(ct, &p, &st, &a, &b, Eval::Read).expect("regular");
             let energy = |a: &Node, b: &Node| {
-                evaluate(ct, &p, &st, a, b, false)
+                evaluate(ct, &p, &st, a, b, Eval::Read)
                     .expect("regular")
                     .0
                     .energy
@@ -168,7 +169,7 @@ fn stretched_spring_sign() {
             r: Vec3::new(0.0, 0.0, 1.01),
             ..b0
         };
-        let (o, _) = evaluate(ct, &p, &st, &a, &b, false).expect("regular");
+        let (o, _) = evaluate(ct, &p, &st, &a, &b, Eval::Read).expect("regular");
         // component 3 (l, z) is along world z here for every translational type
         assert!(
             (o.cef[2] - 1.0).abs() < 1e-9,
@@ -233,7 +234,7 @@ fn energy_balance_along_a_driven_path() {
             p.stop_upper[k] = c + gap;
         }
         let mut st: State = initial_state(ct, &p, &a0, &b0).expect("regular");
-        let (o0, _) = evaluate(ct, &p, &st, &a0, &b0, false).expect("regular");
+        let (o0, _) = evaluate(ct, &p, &st, &a0, &b0, Eval::Read).expect("regular");
         let h = 2e-4;
         let mut work = 0.0;
         let power = |o: &connector_fmu::physics::connector::Outputs, a: &Node, b: &Node| {
@@ -255,7 +256,7 @@ fn energy_balance_along_a_driven_path() {
             .expect("regular path");
             st = adv.state;
             let (a1, b1) = (node_at(t + h, 0), node_at(t + h, 1));
-            let (o1, _) = evaluate(ct, &p, &st, &a1, &b1, false).expect("regular");
+            let (o1, _) = evaluate(ct, &p, &st, &a1, &b1, Eval::Read).expect("regular");
             let pw = power(&o1, &a1, &b1);
             work += 0.5 * (prev_power + pw) * h;
             prev_power = pw;
