@@ -288,6 +288,15 @@ impl ModelInstance {
             .map_err(|e| FmuError::error(format!("fmi2ExitInitializationMode: {}", e.message)))?;
         let st = initial_state(self.ct, &self.s.params, &a, &b)
             .map_err(|e| singular_error("fmi2ExitInitializationMode", e))?;
+        // A start whose outputs or dissipation power are not finite (velocity inputs so large
+        // that c·v² overflows) is refused: no step could succeed from it, and its state would
+        // not de-serialize (regression 005). The instance stays in Initialization Mode.
+        self.evaluate_at(&self.s.inputs, Eval::Read, "fmi2ExitInitializationMode")?;
+        if !st.power.iter().all(|x| x.is_finite()) {
+            return Err(FmuError::error(
+                "fmi2ExitInitializationMode: the dissipation power at the initial inputs is not finite (velocity inputs too large)",
+            ));
+        }
         self.s.state = st;
         self.s.mode = Mode::StepComplete;
         self.cache = None;
@@ -633,13 +642,13 @@ impl ModelInstance {
         self.allowed(Call::DoStep, F)?;
         if !h.is_finite() || h <= 0.0 {
             return Err(FmuError::error(format!(
-                "{F}: communicationStepSize {h} must be finite and > 0"
+                "{F}: communicationStepSize {h:?} must be finite and > 0"
             )));
         }
         let tol = 1e-9 * t.abs().max(1.0);
         if !t.is_finite() || (t - self.s.time).abs() > tol {
             return Err(FmuError::error(format!(
-                "{F}: currentCommunicationPoint {t} does not match the FMU time {}",
+                "{F}: currentCommunicationPoint {t:?} does not match the FMU time {:?}",
                 self.s.time
             )));
         }
@@ -676,16 +685,16 @@ impl ModelInstance {
                 self.s.mode = Mode::Error;
                 Err(FmuError::error(match e {
                     StepError::Singular(s, tau) => format!(
-                        "{F}: at t = {}: {}; the state at t = {t} is kept (fmi2Reset or fmi2SetFMUstate recovers)",
+                        "{F}: at t = {:?}: {}; the state at t = {t:?} is kept (fmi2Reset or fmi2SetFMUstate recovers)",
                         t + tau,
                         singular_text(s)
                     ),
                     StepError::NotFinite(tau) => format!(
-                        "{F}: at t = {}: an output would not be finite; the state at t = {t} is kept",
+                        "{F}: at t = {:?}: an output would not be finite; the state at t = {t:?} is kept",
                         t + tau
                     ),
                     StepError::TooManySubsteps(n) => format!(
-                        "{F}: the step h = {h} would need {n} internal substeps (more than {}); use a smaller step or a larger cosim.maxSubstep",
+                        "{F}: the step h = {h:?} would need {n:e} internal substeps (more than {}); use a smaller step or a larger cosim.maxSubstep",
                         crate::physics::step::MAX_SUBSTEPS
                     ),
                 }))
@@ -839,7 +848,7 @@ fn write_node(u: &mut NodeInputs, n: &Node) {
 fn singular_text(s: Singular) -> String {
     match s {
         Singular::FlexionNearPi(a) => format!(
-            "flexion angle α = {a} rad is at the singular configuration α → π (shafts folded back)"
+            "flexion angle α = {a:?} rad is at the singular configuration α → π (shafts folded back)"
         ),
         Singular::RevoluteUndefined => {
             "PLANAR rotation α is undefined: e3b is perpendicular to the 2-3 plane of node a"

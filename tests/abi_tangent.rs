@@ -33,7 +33,10 @@ fn tangent_is_the_slip_branch_where_a_slipping_step_ended() {
     let status = f.get_integers(&[f.vr("friction.status")])[0];
     assert_eq!(status, 2, "slipping");
     let along = slope(&f, "CSF2", "b.r[2]");
-    assert!(along.abs() < 1e-6 * k_s, "slip tangent along the slide: {along}");
+    assert!(
+        along.abs() < 1e-6 * k_s,
+        "slip tangent along the slide: {along}"
+    );
     // across the slide the radial return turns the force: k_s·L/|trial| (I − n nᵀ), and
     // where the step ended the trial is on the limit, L/|trial| = 1
     let across = slope(&f, "CSF3", "b.r[3]");

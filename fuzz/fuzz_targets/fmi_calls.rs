@@ -1,0 +1,16 @@
+//! libFuzzer target: the input bytes are a program of FMI 2.0 calls on the exported C
+//! functions of every variant (see `fuzz/harness.rs` for the format and the invariants).
+//!
+//!     RUSTC_BOOTSTRAP=1 cargo fuzz run fmi_calls -- -max_total_time=60
+//!
+//! or `scripts/fuzz` for the long run.
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+
+#[path = "../harness.rs"]
+mod harness;
+
+fuzz_target!(|data: &[u8]| {
+    harness::run(data);
+});

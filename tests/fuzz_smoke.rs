@@ -1,0 +1,123 @@
+//! A short deterministic replay of the `fmi_calls` fuzz harness inside `cargo test`: the same
+//! program interpreter and invariants as the libFuzzer target (`fuzz/harness.rs`), run on
+//!
+//! - every committed seed in `fuzz/seeds/fmi_calls/` (the inputs of the findings fixed so far,
+//!   `regression_<NNN>_*`), and
+//! - a fixed set of pseudo-random programs (LCG, fixed seed), half of them behind a prefix that
+//!   initialises a connector with every parameter set and runs steps, so the kernel is reached.
+//!
+//! The long, coverage-guided run is `scripts/fuzz` (not CI). `FMI_FUZZ_TRACE=1` prints what
+//! each program does.
+
+#[path = "../fuzz/harness.rs"]
+mod harness;
+
+use connector_fmu::variables::{table, Causality, Start, VARIANTS};
+use std::time::Instant;
+
+/// Number of pseudo-random programs (debug build: fewer, same generator).
+const PROGRAMS: usize = if cfg!(debug_assertions) { 300 } else { 3000 };
+
+struct Lcg(u64);
+
+impl Lcg {
+    fn next(&mut self) -> u64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        self.0 >> 33
+    }
+    fn byte(&mut self) -> u8 {
+        self.next() as u8
+    }
+}
+
+/// Header + ops that instantiate variant `v`, enter initialization, set every parameter to a
+/// plausible value (the byte layout follows the harness decoder exactly, from the variable
+/// table), set a plausible motion, and leave initialization. The program continues at random.
+fn prefix(v: usize, rng: &mut Lcg) -> Vec<u8> {
+    let variant = VARIANTS[v].variant;
+    let t = table(variant);
+    // header: variant selector, flags (valid name and type, logging off), logger present
+    let mut p = vec![v as u8, 0, 0];
+    p.extend([0, 9]); // instance 0: fmi2EnterInitializationMode
+    p.extend([0, 6]); // instance 0: parameter set
+    for var in t
+        .vars
+        .iter()
+        .filter(|x| x.causality == Causality::Parameter)
+    {
+        p.push(200); // selected
+        match var.start {
+            // value kind "plausible" (≠ 0 mod 8), then a u16 for the value
+            Start::Real(_) => p.extend([1 + rng.byte() % 7, rng.byte(), rng.byte()]),
+            Start::Integer(_) => p.push(0), // 0: the Integer parameters' safe value
+            Start::Boolean(_) => {}
+        }
+    }
+    p.extend([0, 7, rng.byte()]); // motion, scale
+    for node in ["a", "b"] {
+        // quaternion kind 11 (axis-angle): angle u16 + turn byte, axis 3 × u16
+        p.push(11);
+        p.extend((0..9).map(|_| rng.byte()));
+        let plain = t
+            .vars
+            .iter()
+            .filter(|x| x.causality == Causality::Input && x.name.starts_with(node))
+            .filter(|x| !x.name[2..].starts_with("q."))
+            .count();
+        p.extend((0..2 * plain).map(|_| rng.byte()));
+    }
+    p.extend([0, 10]); // fmi2ExitInitializationMode
+    for _ in 0..3 {
+        // a run of four steps: h = 1e-3·(1 + 4·byte/255), t = the FMU's time
+        p.extend([0, 31, 3]);
+        for _ in 0..4 {
+            p.extend([10, rng.byte(), 1]);
+        }
+    }
+    p
+}
+
+#[test]
+fn committed_seeds_replay_clean() {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/fuzz/seeds/fmi_calls");
+    let mut n = 0;
+    let mut paths: Vec<_> = std::fs::read_dir(dir)
+        .expect("fuzz/seeds/fmi_calls")
+        .map(|e| e.expect("entry").path())
+        .collect();
+    paths.sort();
+    for path in paths {
+        let data = std::fs::read(&path).expect("seed");
+        let r = std::panic::catch_unwind(|| harness::run(&data));
+        assert!(r.is_ok(), "seed {} violates an invariant", path.display());
+        n += 1;
+    }
+    assert!(n >= 2, "expected the committed seeds, found {n}");
+}
+
+#[test]
+fn pseudo_random_programs_keep_the_invariants() {
+    let started = Instant::now();
+    let mut rng = Lcg(0x5eed_f00d);
+    for i in 0..PROGRAMS {
+        let len = 16 + (rng.next() % 600) as usize;
+        let mut data = if i % 2 == 0 {
+            prefix(i / 2 % 5, &mut rng)
+        } else {
+            Vec::new()
+        };
+        data.extend((0..len).map(|_| rng.byte()));
+        let r = std::panic::catch_unwind(|| harness::run(&data));
+        assert!(
+            r.is_ok(),
+            "program {i} violates an invariant; bytes: {data:?}"
+        );
+    }
+    println!(
+        "{PROGRAMS} programs in {:.2} s",
+        started.elapsed().as_secs_f64()
+    );
+}
