@@ -327,6 +327,25 @@ impl ModelInstance {
         }
     }
 
+    /// The (node, index) of a Real node input `vr` given a finite `what` value `x`, or the
+    /// error that names the variable (input derivatives, directional-derivative seeds).
+    fn finite_input(&self, vr: u32, x: Real, what: &str, fname: &str) -> FmuResult<(usize, usize)> {
+        let v = self.var(vr, Ty::Real, fname)?;
+        let Field::Input { node, idx } = v.field else {
+            return Err(FmuError::error(format!(
+                "{fname}: {} is not an input",
+                v.name
+            )));
+        };
+        if !x.is_finite() {
+            return Err(FmuError::error(format!(
+                "{fname}: the {what} for {} is not finite",
+                v.name
+            )));
+        }
+        Ok((node as usize, idx as usize))
+    }
+
     /// Checks that `v` may be set in the current mode.
     fn settable(&self, v: &VarSpec, fname: &str) -> FmuResult<()> {
         let ok = match (v.causality, v.variability) {
@@ -583,24 +602,15 @@ impl ModelInstance {
         let mut der = self.s.input_der;
         let mut set = self.s.input_der_set;
         for ((&vr, &order), &x) in vrs.iter().zip(orders).zip(values) {
-            let v = self.var(vr, Ty::Real, F)?;
-            let Field::Input { node, idx } = v.field else {
-                return Err(FmuError::error(format!("{F}: {} is not an input", v.name)));
-            };
+            let (node, idx) = self.finite_input(vr, x, "derivative", F)?;
             if order != 1 {
                 return Err(FmuError::error(format!(
-                    "{F}: derivative order {order} of {} is not supported (only 1)",
-                    v.name
+                    "{F}: derivative order {order} of {} is not supported (only 1); not set",
+                    self.table.get(vr).map_or("?", |v| v.name.as_str())
                 )));
             }
-            if !x.is_finite() {
-                return Err(FmuError::error(format!(
-                    "{F}: derivative of {} is not finite; not set",
-                    v.name
-                )));
-            }
-            der[node as usize][idx as usize] = x;
-            set[node as usize][idx as usize] = true;
+            der[node][idx] = x;
+            set[node][idx] = true;
         }
         self.s.input_der = der;
         self.s.input_der_set = set;
@@ -1081,20 +1091,8 @@ impl ModelInstance {
         let mut scale: Real = 1.0;
         let mut dmax: Real = 0.0;
         for (&vr, &d) in knowns.iter().zip(dknown) {
-            let v = self.var(vr, Ty::Real, F)?;
-            let Field::Input { node, idx } = v.field else {
-                return Err(FmuError::error(format!(
-                    "{F}: known {} is not an input",
-                    v.name
-                )));
-            };
-            if !d.is_finite() {
-                return Err(FmuError::error(format!(
-                    "{F}: seed for {} is not finite",
-                    v.name
-                )));
-            }
-            scale = scale.max(self.s.inputs[node as usize][idx as usize].abs());
+            let (node, idx) = self.finite_input(vr, d, "seed", F)?;
+            scale = scale.max(self.s.inputs[node][idx].abs());
             dmax = dmax.max(d.abs());
         }
         if dmax == 0.0 {
