@@ -159,14 +159,6 @@ impl Params {
         }
         self.friction.check()
     }
-
-    /// Whether any stop is set on an available component.
-    pub fn has_stops(&self, roles: &[Role; 6]) -> bool {
-        (0..6).any(|i| {
-            roles[i] == Role::Available
-                && (self.stop_lower[i] > Real::NEG_INFINITY || self.stop_upper[i] < Real::INFINITY)
-        })
-    }
 }
 
 /// Energy accounts (J).
