@@ -530,64 +530,62 @@ impl ModelInstance {
             .ok_or_else(|| FmuError::error(format!("{fname}: no outputs")))
     }
 
-    /// Checks every VR of a get call; returns whether any is an output.
-    fn check_get(&self, vrs: &[u32], ty: Ty, fname: &str) -> FmuResult<bool> {
+    /// A get call: every VR is checked (type and existence) before anything is written, the
+    /// outputs are evaluated once when one is asked for, then `read` fills each slot.
+    fn get_values<T>(
+        &mut self,
+        vrs: &[u32],
+        out: &mut [T],
+        ty: Ty,
+        fname: &str,
+        read: impl Fn(&Snapshot, &VarSpec, Option<&Outputs>) -> T,
+    ) -> FmuResult<()> {
         self.allowed(Call::Get, fname)?;
         let mut any_output = false;
         for &vr in vrs {
             any_output |= self.var(vr, ty, fname)?.causality == Causality::Output;
         }
-        Ok(any_output)
+        if any_output {
+            self.outputs(fname)?;
+        }
+        let o = self.cache.as_ref();
+        for (&vr, slot) in vrs.iter().zip(out.iter_mut()) {
+            *slot = read(&self.s, self.var(vr, ty, fname)?, o);
+        }
+        Ok(())
     }
 
     /// fmi2GetReal.
     pub fn get_real(&mut self, vrs: &[u32], out: &mut [Real]) -> FmuResult<()> {
-        const F: &str = "fmi2GetReal";
-        if self.check_get(vrs, Ty::Real, F)? {
-            self.outputs(F)?;
-        }
-        let o = self.cache.as_ref();
-        for (&vr, slot) in vrs.iter().zip(out.iter_mut()) {
-            let v = self.var(vr, Ty::Real, F)?;
-            *slot = match (v.field, o) {
-                (Field::Input { node, idx }, _) => self.s.inputs[node as usize][idx as usize],
+        self.get_values(vrs, out, Ty::Real, "fmi2GetReal", |s, v, o| {
+            match (v.field, o) {
+                (Field::Input { node, idx }, _) => s.inputs[node as usize][idx as usize],
                 (f, Some(o)) if v.causality == Causality::Output => read_output(o, f),
-                (f, _) => read_real_param(&self.s.params, f),
-            };
-        }
-        Ok(())
+                (f, _) => read_real_param(&s.params, f),
+            }
+        })
     }
 
     /// fmi2GetInteger.
     pub fn get_integer(&mut self, vrs: &[u32], out: &mut [i32]) -> FmuResult<()> {
-        const F: &str = "fmi2GetInteger";
-        if self.check_get(vrs, Ty::Integer, F)? {
-            self.outputs(F)?;
-        }
-        let o = self.cache.as_ref();
-        for (&vr, slot) in vrs.iter().zip(out.iter_mut()) {
-            let v = self.var(vr, Ty::Integer, F)?;
-            *slot = match (v.field, o) {
+        self.get_values(vrs, out, Ty::Integer, "fmi2GetInteger", |s, v, o| {
+            match (v.field, o) {
                 (Field::StopStatus(k), Some(o)) => o.cslst[k as usize],
                 (Field::Friction(FrictionField::Status), Some(o)) => o.friction.status as i32,
                 (Field::Friction(FrictionField::StatusR1), Some(o)) => o.friction.status_r1 as i32,
-                (f, _) => read_int_param(&self.s.params, f),
-            };
-        }
-        Ok(())
+                (f, _) => read_int_param(&s.params, f),
+            }
+        })
     }
 
     /// fmi2GetBoolean.
     pub fn get_boolean(&mut self, vrs: &[u32], out: &mut [bool]) -> FmuResult<()> {
-        const F: &str = "fmi2GetBoolean";
-        self.check_get(vrs, Ty::Boolean, F)?;
-        for (&vr, slot) in vrs.iter().zip(out.iter_mut()) {
-            *slot = match self.var(vr, Ty::Boolean, F)?.field {
-                Field::CompParam { k, .. } => self.s.params.ref_given[k as usize],
+        self.get_values(vrs, out, Ty::Boolean, "fmi2GetBoolean", |s, v, _| {
+            match v.field {
+                Field::CompParam { k, .. } => s.params.ref_given[k as usize],
                 _ => false,
-            };
-        }
-        Ok(())
+            }
+        })
     }
 
     /// fmi2SetRealInputDerivatives (first order only; valid for the next fmi2DoStep).

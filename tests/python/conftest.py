@@ -23,6 +23,7 @@ import functools
 import itertools
 from pathlib import Path
 
+import numpy as np
 import pytest
 from fmpy import calloc, extract, free, read_model_description
 from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
@@ -163,3 +164,45 @@ def make_slave(extracted):
         s.freeInstance()
     for e in envs:
         _sinks.pop(e, None)
+
+
+# --------------------------------------------------------------------------
+# a small name-based driver over an instantiated FMU2Slave (stops and friction tests)
+# --------------------------------------------------------------------------
+
+
+class Conn:
+    """Set/get by name, step with a running time; `start` initializes with parameters and inputs."""
+
+    def __init__(self, slave, variant="Planar"):
+        self.s, self.vr, self.t = slave, vr(variant), 0.0
+
+    def start(self, params, inputs):
+        self.s.setupExperiment(startTime=0.0)
+        self.s.enterInitializationMode()
+        self.set(params)
+        self.set(inputs)
+        self.s.exitInitializationMode()
+        return self
+
+    def set(self, values):
+        reals = [(self.vr[n], float(v)) for n, v in values.items() if self.vr[n].type == "Real"]
+        ints = [(self.vr[n], int(v)) for n, v in values.items() if self.vr[n].type == "Integer"]
+        if reals:
+            self.s.setReal([r for r, _ in reals], [v for _, v in reals])
+        if ints:
+            self.s.setInteger([r for r, _ in ints], [v for _, v in ints])
+
+    def get(self, names):
+        return np.array(self.s.getReal([self.vr[n] for n in names]))
+
+    def geti(self, names):
+        return np.array(self.s.getInteger([self.vr[n] for n in names]))
+
+    def one(self, name):
+        v = self.vr[name]
+        return (self.s.getInteger([v]) if v.type == "Integer" else self.s.getReal([v]))[0]
+
+    def step(self, h):
+        self.s.doStep(currentCommunicationPoint=self.t, communicationStepSize=h)
+        self.t += h

@@ -30,46 +30,11 @@ import pytest
 from fmpy.fmi1 import FMICallException
 
 import _ref
-from conftest import vr
+from conftest import Conn
 
 # --------------------------------------------------------------------------
-# driver
+# driver inputs (Conn, the name-based driver, is in conftest)
 # --------------------------------------------------------------------------
-
-
-class Conn:
-    def __init__(self, slave, variant="Planar"):
-        self.s, self.vr, self.t = slave, vr(variant), 0.0
-
-    def start(self, params, inputs):
-        self.s.setupExperiment(startTime=0.0)
-        self.s.enterInitializationMode()
-        self.set(params)
-        self.set(inputs)
-        self.s.exitInitializationMode()
-        return self
-
-    def set(self, values):
-        reals = [(self.vr[n], float(v)) for n, v in values.items() if self.vr[n].type == "Real"]
-        ints = [(self.vr[n], int(v)) for n, v in values.items() if self.vr[n].type == "Integer"]
-        if reals:
-            self.s.setReal([r for r, _ in reals], [v for _, v in reals])
-        if ints:
-            self.s.setInteger([r for r, _ in ints], [v for _, v in ints])
-
-    def get(self, names):
-        return np.array(self.s.getReal([self.vr[n] for n in names]))
-
-    def geti(self, names):
-        return np.array(self.s.getInteger([self.vr[n] for n in names]))
-
-    def one(self, name):
-        v = self.vr[name]
-        return (self.s.getInteger([v]) if v.type == "Integer" else self.s.getReal([v]))[0]
-
-    def step(self, h):
-        self.s.doStep(currentCommunicationPoint=self.t, communicationStepSize=h)
-        self.t += h
 
 
 A_INPUTS = {"a.r[1]": 0.0, "a.r[2]": 0.0, "a.r[3]": 0.0, "a.q.w": 1.0, "a.q.x": 0.0, "a.q.y": 0.0, "a.q.z": 0.0,

@@ -24,42 +24,11 @@ import math
 import numpy as np
 import pytest
 
-from conftest import vr
+from conftest import Conn
 
 # --------------------------------------------------------------------------
-# a small name-based driver
+# poses (Conn, the name-based driver, is in conftest)
 # --------------------------------------------------------------------------
-
-
-class Conn:
-    def __init__(self, slave, variant):
-        self.s, self.vr, self.t = slave, vr(variant), 0.0
-
-    def start(self, params, inputs):
-        self.s.setupExperiment(startTime=0.0)
-        self.s.enterInitializationMode()
-        self.set(params)
-        self.set(inputs)
-        self.s.exitInitializationMode()
-        return self
-
-    def set(self, values):
-        reals = [(self.vr[n], float(v)) for n, v in values.items() if self.vr[n].type == "Real"]
-        ints = [(self.vr[n], int(v)) for n, v in values.items() if self.vr[n].type == "Integer"]
-        if reals:
-            self.s.setReal([r for r, _ in reals], [v for _, v in reals])
-        if ints:
-            self.s.setInteger([r for r, _ in ints], [v for _, v in ints])
-
-    def get(self, names):
-        return np.array(self.s.getReal([self.vr[n] for n in names]))
-
-    def geti(self, names):
-        return np.array(self.s.getInteger([self.vr[n] for n in names]))
-
-    def step(self, h):
-        self.s.doStep(currentCommunicationPoint=self.t, communicationStepSize=h)
-        self.t += h
 
 
 def quat_about(axis, angle):
