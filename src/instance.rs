@@ -943,6 +943,8 @@ pub(crate) fn write_real(
                         fr.k_stick_r1 = v
                     }
                 }
+                StickC => fr.c_stick = nonneg(x)?,
+                StickCr => fr.c_stick_r1 = nonneg(x)?,
                 MaxForce => {
                     if x.is_nan() || x < 0.0 {
                         return Err("must be >= 0 (+INF: no cap)");
@@ -1009,6 +1011,8 @@ pub(crate) fn read_real_param(p: &Params, f: Field) -> Real {
             Mint => fr.m_int,
             StickK => fr.k_stick,
             StickKr => fr.k_stick_r1,
+            StickC => fr.c_stick,
+            StickCr => fr.c_stick_r1,
             MaxForce => fr.max_force,
             MaxSubstep => p.max_substep,
             Coupling | Extrapolation => 0.0,

@@ -19,7 +19,7 @@ use crate::variables::{Causality, CompPar, Field, Start, Table};
 
 const MAGIC: &[u8; 4] = b"CFMU";
 /// Version of the byte format; bump on any layout change.
-pub const VERSION: u16 = 1;
+pub const VERSION: u16 = 2;
 
 struct W(Vec<u8>);
 
@@ -175,6 +175,12 @@ pub fn encode(t: &Table, s: &Snapshot) -> Vec<u8> {
         fr.force[0],
         fr.force[1],
         fr.force[2],
+        fr.elastic[0],
+        fr.elastic[1],
+        fr.elastic[2],
+        fr.slip_rate[0],
+        fr.slip_rate[1],
+        fr.slip_rate[2],
     ]);
     w.b(fr.status as u8);
     w.b(fr.status_r1 as u8);
@@ -306,7 +312,8 @@ pub fn decode(t: &Table, bytes: &[u8]) -> Result<Snapshot, String> {
             x => return Err(format!("stop status {x} is not -1, 0 or 1")),
         };
     }
-    let [s0, s1, sr, acc, acc_r, fdiss, mu0, mu1, f2, f3, m1] = r.fs::<11>("friction state")?;
+    let [s0, s1, sr, acc, acc_r, fdiss, mu0, mu1, f2, f3, m1, e2, e3, e4, v2, v3, v4] =
+        r.fs::<17>("friction state")?;
     if mu0 < 0.0 || mu1 < 0.0 {
         return Err("friction slip speed is negative".into());
     }
@@ -342,6 +349,8 @@ pub fn decode(t: &Table, bytes: &[u8]) -> Result<Snapshot, String> {
                 dissipated: fdiss,
                 mu_rate: [mu0, mu1],
                 force: [f2, f3, m1],
+                elastic: [e2, e3, e4],
+                slip_rate: [v2, v3, v4],
             },
             dissipated: Energy {
                 stored: 0.0,

@@ -216,6 +216,10 @@ pub enum ScalarPar {
     StickK,
     /// friction.stickStiffnessR1
     StickKr,
+    /// friction.stickDamping
+    StickC,
+    /// friction.stickDampingR1
+    StickCr,
     /// friction.maxForce
     MaxForce,
     /// friction.coupling
@@ -737,7 +741,7 @@ fn build(spec: &'static VariantSpec) -> Table {
     let d = crate::physics::connector::Params::default();
     let f = d.friction;
     use ScalarPar::*;
-    let scalars: [(ScalarPar, &str, Start, &str, &str, bool); 20] = [
+    let scalars: [(ScalarPar, &str, Start, &str, &str, bool); 22] = [
         (
             StopK,
             "stop.stiffness",
@@ -879,7 +883,7 @@ fn build(spec: &'static VariantSpec) -> Table {
             "friction.coupling",
             Start::Integer(Some(f.coupling)),
             "",
-            "0 separate sliding and spin (Abaqus), 1 coupled ellipsoidal limit",
+            "0 separate sliding and spin (Abaqus), 1 coupled: ellipsoidal limit, disc flow",
             planar,
         ),
         (
@@ -897,6 +901,23 @@ fn build(spec: &'static VariantSpec) -> Table {
             "s",
             "largest internal substep (0: from the path alone)",
             true,
+        ),
+        // added after the first release: appended so that earlier value references stay
+        (
+            StickC,
+            "friction.stickDamping",
+            Start::Real(Some(f.c_stick)),
+            "N.s/m",
+            "stick damping of sliding, parallel to the stick spring (0: Abaqus)",
+            planar,
+        ),
+        (
+            StickCr,
+            "friction.stickDampingR1",
+            Start::Real(Some(f.c_stick_r1)),
+            "N.m.s/rad",
+            "stick damping of spin, parallel to the stick spring (0: Abaqus)",
+            planar,
         ),
     ];
     for (i, (par, name, start, unit, what, present)) in scalars.into_iter().enumerate() {

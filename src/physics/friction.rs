@@ -1,14 +1,18 @@
 //! PLANAR predefined friction (seed pages 631–632): sliding in the local 2–3 plane and spin
 //! about the local 1-direction, each an elastic stick spring with a return map onto the
-//! friction limit; optionally coupled through an ellipsoidal limit surface (Contensou).
+//! friction limit; optionally coupled through an ellipsoidal limit surface with the flow rule of
+//! a uniformly loaded disc (Contensou; `disc`).
 
+use super::disc::disc_law;
 use super::math::Real;
+use std::f64::consts::FRAC_PI_2;
 
 /// What an evaluation of the connector is for.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Eval {
-    /// A substep along the path: friction takes its μ afresh from the committed status.
-    Step,
+    /// A substep of this length (s) along the path: friction takes its μ afresh from the
+    /// committed status, and the stick dampers see the plastic slip rate over the substep.
+    Step(Real),
     /// The outputs at the current inputs: the μ of the last committed return map.
     Read,
     /// The consistent tangent: as `Read`, and the effects marked (sliding, spin) stay on their
@@ -36,9 +40,14 @@ pub struct FrictionParams {
     pub k_stick: Real,
     /// Stick stiffness of spin (N.m/rad).
     pub k_stick_r1: Real,
+    /// Stick damping of sliding (N.s/m), in parallel with the stick spring (0: Abaqus).
+    pub c_stick: Real,
+    /// Stick damping of spin (N.m.s/rad).
+    pub c_stick_r1: Real,
     /// Cap on the tangential friction force (N); +∞ = none.
     pub max_force: Real,
-    /// 0: the two effects separate (Abaqus); 1: coupled through the ellipsoidal limit surface.
+    /// 0: the two effects separate (Abaqus); 1: coupled through the ellipsoidal limit surface
+    /// |(f2, f3, m1/ρ)| ≤ μF_NC, ρ = 2R/3, with the uniform disc's flow rule.
     pub coupling: i32,
 }
 
@@ -53,6 +62,8 @@ impl Default for FrictionParams {
             m_int: 0.0,
             k_stick: 1e6,
             k_stick_r1: 1e4,
+            c_stick: 0.0,
+            c_stick_r1: 0.0,
             max_force: Real::INFINITY,
             coupling: 0,
         }
@@ -74,6 +85,8 @@ impl FrictionParams {
             (self.decay, "friction.decay"),
             (self.radius, "friction.R"),
             (self.max_force, "friction.maxForce"),
+            (self.c_stick, "friction.stickDamping"),
+            (self.c_stick_r1, "friction.stickDampingR1"),
         ];
         for (v, name) in nonneg {
             if v < 0.0 {
@@ -141,6 +154,11 @@ pub struct FrictionState {
     pub mu_rate: [Real; 2],
     /// Friction force and moment of the last return map (f2, f3, m1).
     pub force: [Real; 3],
+    /// Elastic slip of the stick springs after the last return map (y, z, α parts; m, rad).
+    pub elastic: [Real; 3],
+    /// Plastic slip rate over the last substep (m/s, rad/s): the stick dampers act on the
+    /// elastic slip rate, the relative rate minus this.
+    pub slip_rate: [Real; 3],
 }
 
 /// Friction outputs (SPEC §5).
@@ -196,6 +214,15 @@ pub fn normal_loads(p: &FrictionParams, f1: Real, m2: Real, m3: Real) -> (Real, 
 ///
 /// `reaction` = (f1, m2, m3), `pos` = (y, z, α), `rate` = (ẏ, ż, α̇).
 ///
+/// Each effect is a stick spring k with a stick damper c in parallel, in series with the
+/// friction slider: f = k e + c ė with e = position − plastic slip (elastic slip),
+/// ė = rate − plastic slip rate, and |f| ≤ limit. A substep of length h first tries stick (no
+/// plastic flow, ė = rate); when that force lies outside the limit it returns onto the limit
+/// with the plastic slip Δs taken by backward Euler (plastic rate Δs/h), that is with the
+/// stiffness k + c/h. Outside a substep (read, tangent) the committed plastic rate is kept, so
+/// that evaluating again where a step ended reproduces its forces, and a return uses k alone.
+/// c = 0 (the default) is Abaqus' elastic stick.
+///
 /// μ: while an effect's committed status is stick, μ = μ_s (breakaway happens at μ_s N, and
 /// the elastic motion of a stuck stick spring does not lower μ and make the contact chatter);
 /// while it slips, μ = μ(relative slip speed). `Eval::Step` takes that choice afresh (a
@@ -209,17 +236,54 @@ pub fn update(
     rate: [Real; 3],
     mode: Eval,
 ) -> FrictionResult {
-    let stepping = mode == Eval::Step;
+    let h = match mode {
+        Eval::Step(h) => h,
+        _ => Real::INFINITY,
+    };
+    let stepping = h.is_finite();
     // the slip branch of the return map, for the consistent tangent of a slipping effect
     let on_limit = |effect: usize| matches!(mode, Eval::Tangent(slip) if slip[effect]);
     let (f_nc, m_nr1) = normal_loads(p, reaction[0], reaction[1], reaction[2]);
     let mut next = *st;
-    // trial forces of the stick springs
-    let f_tr = [
-        p.k_stick * (pos[0] - st.slip_plastic[0]),
-        p.k_stick * (pos[1] - st.slip_plastic[1]),
-    ];
-    let m_tr = p.k_stick_r1 * (pos[2] - st.slip_plastic_r1);
+    if !p.enabled() {
+        // friction off: no force, slip follows the motion, no stored energy
+        next.slip_plastic = [pos[0], pos[1]];
+        next.slip_plastic_r1 = pos[2];
+        next.status = Status::NoNormal;
+        next.status_r1 = Status::NoNormal;
+        next.mu_rate = [0.0; 2];
+        next.force = [0.0; 3];
+        next.elastic = [0.0; 3];
+        next.slip_rate = [0.0; 3];
+        return FrictionResult {
+            force: [0.0; 3],
+            out: outputs(&next, f_nc, m_nr1, 0.0, 0.0),
+            stored: 0.0,
+            state: next,
+        };
+    }
+    // trial forces: stick springs and stick dampers with the plastic rates assumed (none in a
+    // substep, the committed ones otherwise)
+    let rate_p = if stepping { [0.0; 3] } else { st.slip_rate };
+    let damper = |rate_p: [Real; 3]| {
+        [
+            p.c_stick * (rate[0] - rate_p[0]),
+            p.c_stick * (rate[1] - rate_p[1]),
+            p.c_stick_r1 * (rate[2] - rate_p[2]),
+        ]
+    };
+    let elastic = |st: &FrictionState| {
+        [
+            pos[0] - st.slip_plastic[0],
+            pos[1] - st.slip_plastic[1],
+            pos[2] - st.slip_plastic_r1,
+        ]
+    };
+    let (e, d) = (elastic(st), damper(rate_p));
+    let f_tr = [p.k_stick * e[0] + d[0], p.k_stick * e[1] + d[1]];
+    let m_tr = p.k_stick_r1 * e[2] + d[2];
+    // stiffness of the return: the spring and the damper over the substep
+    let k_ret = [p.k_stick + p.c_stick / h, p.k_stick_r1 + p.c_stick_r1 / h];
     // effective spin radius ρ = 2R/3 turns the spin rate into a slip speed (1 m when R = 0)
     let rho = if p.radius > 0.0 {
         2.0 / 3.0 * p.radius
@@ -234,22 +298,8 @@ pub fn update(
         (false, _) => committed,
     };
 
-    let (f, m) = if !p.enabled() {
-        // friction off: no force, slip follows the motion, no stored energy
-        next.slip_plastic = [pos[0], pos[1]];
-        next.slip_plastic_r1 = pos[2];
-        next.status = Status::NoNormal;
-        next.status_r1 = Status::NoNormal;
-        next.mu_rate = [0.0; 2];
-        next.force = [0.0; 3];
-        return FrictionResult {
-            force: [0.0; 3],
-            out: outputs(&next, f_nc, m_nr1, 0.0, 0.0),
-            stored: 0.0,
-            state: next,
-        };
-    } else if p.coupling == 1 {
-        // ellipsoidal limit surface |(f2, f3, m1/ρ)| ≤ μ F_NC with associated flow
+    let (f, m) = if p.coupling == 1 {
+        // ellipsoidal limit surface |(f2, f3, m1/ρ)| ≤ μ F_NC, the disc's flow rule
         let v = speed_for(st.status, slide.hypot(spin), st.mu_rate[0]);
         next.mu_rate = [v, v];
         let limit = (p.mu(v) * f_nc).min(p.max_force);
@@ -260,8 +310,10 @@ pub fn update(
         if scale == 1.0 {
             (f_tr, m_tr)
         } else {
-            let (a, b) = ellipsoid_return(p, rho, f_tr[0].hypot(f_tr[1]), m_tr.abs() / rho, limit);
-            ([f_tr[0] * a, f_tr[1] * a], m_tr * b)
+            let f_abs = f_tr[0].hypot(f_tr[1]);
+            let (f, m) = disc_flow_return(p.radius, rho, k_ret, f_abs, m_tr.abs(), limit);
+            let a = if f_abs > 0.0 { f / f_abs } else { 0.0 };
+            ([f_tr[0] * a, f_tr[1] * a], m.copysign(m_tr))
         }
     } else {
         // sliding: radial return in the 2–3 plane; spin: scalar return
@@ -275,22 +327,63 @@ pub fn update(
         next.status_r1 = status_r;
         ([f_tr[0] * scale, f_tr[1] * scale], m_tr * scale_r)
     };
-    slip_update(&mut next, p, f_tr, f, m_tr, m);
-    // The force as the stick springs give it from the new plastic slip: the same expression a
-    // later evaluation at this point starts from, so both report the same bits.
-    let f = [
-        p.k_stick * (pos[0] - next.slip_plastic[0]),
-        p.k_stick * (pos[1] - next.slip_plastic[1]),
-    ];
-    let m = p.k_stick_r1 * (pos[2] - next.slip_plastic_r1);
-    next.force = [f[0], f[1], m];
-    let csfc = f[0].hypot(f[1]);
+    // plastic slip Δs = (trial − returned)/(k + c/h), its rate, accumulation and dissipation
+    let ds = [(f_tr[0] - f[0]) / k_ret[0], (f_tr[1] - f[1]) / k_ret[0]];
+    let ds_r = (m_tr - m) / k_ret[1];
+    next.slip_plastic[0] += ds[0];
+    next.slip_plastic[1] += ds[1];
+    next.slip_plastic_r1 += ds_r;
+    next.slip_acc += ds[0].hypot(ds[1]);
+    next.slip_acc_r1 += ds_r.abs();
+    if stepping {
+        next.slip_rate = [ds[0] / h, ds[1] / h, ds_r / h];
+    }
+    // The force as spring and damper give it from the new plastic slip and rate: the same
+    // expression a later evaluation at this point starts from, so both report the same bits.
+    let (e1, d1) = (elastic(&next), damper(next.slip_rate));
+    let spring = [p.k_stick * e1[0], p.k_stick * e1[1], p.k_stick_r1 * e1[2]];
+    let force = [spring[0] + d1[0], spring[1] + d1[1], spring[2] + d1[2]];
+    next.dissipated += dissipation(p, st, &force, [ds[0], ds[1], ds_r], e1);
+    next.force = force;
+    next.elastic = e1;
+    let csfc = force[0].hypot(force[1]);
     FrictionResult {
-        force: [f[0], f[1], m],
-        out: outputs(&next, f_nc, m_nr1, csfc, m.abs()),
-        stored: 0.5 * (csfc * csfc / p.k_stick + m * m / p.k_stick_r1),
+        force,
+        out: outputs(&next, f_nc, m_nr1, csfc, force[2].abs()),
+        stored: 0.5
+            * (spring[0].hypot(spring[1]).powi(2) / p.k_stick
+                + spring[2] * spring[2] / p.k_stick_r1),
         state: next,
     }
+}
+
+/// Energy dissipated from the committed state `st` to the new force `f1`, plastic slip
+/// increment `ds` and elastic slip `e1`, by the trapezoidal rule: the work of the force on the
+/// plastic slip, ½(f0 + f1)·Δs (never negative), and with stick dampers their work on the
+/// elastic slip, ½(d0 + d1)·Δe with d = f − k e. With the stick springs' energy ½k e² this
+/// closes work = Δstored + dissipated exactly for the trapezoidal work ½(f0 + f1)·Δposition,
+/// also where μ changes from step to step (static → kinetic).
+fn dissipation(
+    p: &FrictionParams,
+    st: &FrictionState,
+    f1: &[Real; 3],
+    ds: [Real; 3],
+    e1: [Real; 3],
+) -> Real {
+    let f0 = &st.force;
+    let plastic =
+        0.5 * ((f0[0] + f1[0]) * ds[0] + (f0[1] + f1[1]) * ds[1] + (f0[2] + f1[2]) * ds[2]);
+    let mut w = plastic.max(0.0);
+    let k = [p.k_stick, p.k_stick, p.k_stick_r1];
+    let c = [p.c_stick, p.c_stick, p.c_stick_r1];
+    for i in 0..3 {
+        if c[i] > 0.0 {
+            let e0 = st.elastic[i];
+            let (d0, d1) = (f0[i] - k[i] * e0, f1[i] - k[i] * e1[i]);
+            w += 0.5 * (d0 + d1) * (e1[i] - e0);
+        }
+    }
+    w
 }
 
 fn outputs(st: &FrictionState, cnf: Real, cnm1: Real, csfc: Real, csmc1: Real) -> FrictionOut {
@@ -306,32 +399,66 @@ fn outputs(st: &FrictionState, cnf: Real, cnm1: Real, csfc: Real, csmc1: Real) -
     }
 }
 
-/// Closest-point return onto the ellipsoid |(f, m/ρ)| = L in the energy norm of the stick
-/// springs (associated flow: the plastic slip rate (v, ω) is normal to the ellipsoid, so
-/// (f, m/ρ) ∥ (v, ρω), the Contensou coupling). With F = |f_tr|, M = |m_tr|/ρ the returned
-/// forces are f_tr/(1 + x k_s) and m_tr/(1 + x k_r/ρ²), with x the root of
-/// g(x) = F²/(1 + x k_s)² + M²/(1 + x k_r/ρ²)² − L², convex and decreasing: Newton converges
-/// monotonically once on the left of the root. Returns the two scale factors.
-fn ellipsoid_return(p: &FrictionParams, rho: Real, f: Real, m: Real, limit: Real) -> (Real, Real) {
-    let (ka, kb) = (p.k_stick, p.k_stick_r1 / (rho * rho));
-    let mut x: Real = 0.0;
-    for _ in 0..60 {
-        let (a, b) = (1.0 / (1.0 + x * ka), 1.0 / (1.0 + x * kb));
-        let g = a * a * f * f + b * b * m * m - limit * limit;
-        if g.abs() <= 1e-15 * limit * limit {
-            break;
+/// Return onto the ellipsoid |(f, m/ρ)| = L with the uniform disc's flow rule (`disc`);
+/// `k_s`, `k_r`: the stiffnesses of the return (stick springs and dampers).
+///
+/// The plastic slip increments (Δs along f_tr, Δθ about 1) are written λ(cos χ, sin χ/R), so
+/// that ε = Δs/(RΔθ) = cot χ is the disc's slip ratio; the returned force is the point of the
+/// ellipsoid whose direction is the disc's, tan ψ = (R M̂(ε)/ρ)/F̂(ε):
+/// f = L cos ψ, m = ρ L sin ψ. Then m/f = R M̂/F̂ exactly as for the disc, so a disc of
+/// inertia mR²/2 keeps v/(Rω) = 0.653 while it stops; the magnitude is the ellipsoid's, within
+/// 7 % of the disc's. The stick springs give F − f = k_s λ cos χ and M − m = k_r λ sin χ/R
+/// (F = |f_tr|, M = |m_tr|), so χ is a root of
+/// h(χ) = (F − f(χ)) k_r sin χ − (M − m(χ)) R k_s cos χ, with h(0) = −M R k_s ≤ 0 and
+/// h(π/2) = F k_r ≥ 0: a bracket, solved by the Illinois variant of false position.
+/// λ > 0 exactly when the trial lies outside the (convex) ellipsoid. Returns (f, m).
+fn disc_flow_return(
+    r: Real,
+    rho: Real,
+    [k_s, k_r]: [Real; 2],
+    f_tr: Real,
+    m_tr: Real,
+    limit: Real,
+) -> (Real, Real) {
+    let on_surface = |chi: Real| {
+        let (s, c) = chi.sin_cos();
+        let (f_hat, m_hat) = disc_law(c.max(0.0), s.max(0.0));
+        let (x, y) = (f_hat, r * m_hat / rho);
+        let n = x.hypot(y);
+        (limit * x / n, rho * limit * y / n, s, c)
+    };
+    let h = |chi: Real| {
+        let (f, m, s, c) = on_surface(chi);
+        (f_tr - f) * k_r * s - (m_tr - m) * r * k_s * c
+    };
+    let (mut a, mut ha) = (0.0, h(0.0));
+    let (mut b, mut hb) = (FRAC_PI_2, h(FRAC_PI_2));
+    let chi = if ha >= 0.0 {
+        0.0
+    } else if hb <= 0.0 {
+        FRAC_PI_2
+    } else {
+        let mut x = b;
+        for _ in 0..100 {
+            x = (a * hb - b * ha) / (hb - ha);
+            let hx = h(x);
+            if hx == 0.0 {
+                break;
+            }
+            if (hx > 0.0) == (hb > 0.0) {
+                ha *= 0.5; // Illinois: the retained end's value halved
+            } else {
+                (a, ha) = (b, hb);
+            }
+            (b, hb) = (x, hx);
+            if (b - a).abs() <= 4.0 * Real::EPSILON {
+                break;
+            }
         }
-        let dg = -2.0 * (a * a * a * ka * f * f + b * b * b * kb * m * m);
-        let next = x - g / dg;
-        // keep 1 + x k > 0 (the tangent branch may start inside the ellipsoid, x < 0)
-        let floor = -0.5 / ka.max(kb);
-        x = if next > floor {
-            next
-        } else {
-            0.5 * (x + floor)
-        };
-    }
-    (1.0 / (1.0 + x * ka), 1.0 / (1.0 + x * kb))
+        x
+    };
+    let (f, m, _, _) = on_surface(chi);
+    (f, m)
 }
 
 /// Relative band around the friction limit that counts as "on the limit".
@@ -365,33 +492,6 @@ fn return_status(trial: Real, limit: Real, normal: Real, on_limit: bool) -> (Rea
         // trial > limit ≥ 0, so trial > 0
         (limit / trial, s)
     }
-}
-
-/// Plastic slip increments Δs = (trial − returned)/k_s, their accumulation and dissipation.
-#[inline]
-fn slip_update(
-    next: &mut FrictionState,
-    p: &FrictionParams,
-    f_tr: [Real; 2],
-    f: [Real; 2],
-    m_tr: Real,
-    m: Real,
-) {
-    let ds = [(f_tr[0] - f[0]) / p.k_stick, (f_tr[1] - f[1]) / p.k_stick];
-    let ds_r = (m_tr - m) / p.k_stick_r1;
-    next.slip_plastic[0] += ds[0];
-    next.slip_plastic[1] += ds[1];
-    next.slip_plastic_r1 += ds_r;
-    next.slip_acc += ds[0].hypot(ds[1]);
-    next.slip_acc_r1 += ds_r.abs();
-    // Work of the friction force on the plastic slip, by the trapezoidal rule between the
-    // last committed force and this one: with the stick-spring energy ½f²/k this closes
-    // work = Δstored + dissipated exactly for the trapezoidal work of the force, also where μ
-    // changes from step to step (static → kinetic). Never negative: a dissipation.
-    let f0 = &next.force;
-    let w = 0.5 * ((f0[0] + f[0]) * ds[0] + (f0[1] + f[1]) * ds[1] + (f0[2] + m) * ds_r);
-    next.dissipated += w.max(0.0);
-    next.force = [f[0], f[1], m];
 }
 
 #[cfg(test)]
@@ -432,7 +532,7 @@ mod tests {
             [-10.0, 0.0, 0.0],
             [1e-4, 0.0, 0.0],
             [0.0; 3],
-            Eval::Step,
+            Eval::Step(1e-3),
         );
         assert_eq!(r.out.status, Status::Stick);
         assert!((r.force[0] - 1.0).abs() < 1e-12);
@@ -442,7 +542,7 @@ mod tests {
             [-10.0, 0.0, 0.0],
             [1e-2, 0.0, 0.0],
             [0.0; 3],
-            Eval::Step,
+            Eval::Step(1e-3),
         );
         assert_eq!(r.out.status, Status::Slip);
         assert!((r.out.csfc - 0.5 * 10.0).abs() < 1e-12);
@@ -463,7 +563,7 @@ mod tests {
             [-10.0, 0.0, 0.0],
             [1.0, 0.0, 1.0],
             [0.0; 3],
-            Eval::Step,
+            Eval::Step(1e-3),
         );
         let rho = 2.0 / 3.0 * 0.1;
         let lhs = (r.force[0].powi(2) + r.force[1].powi(2) + (r.force[2] / rho).powi(2)).sqrt();
@@ -472,45 +572,45 @@ mod tests {
         assert_eq!(r.out.status_r1, Status::Slip);
     }
 
-    /// Associated flow on the ellipsoid with unequal stick stiffnesses: the returned force is on
-    /// the surface and the plastic slip increment is normal to it, (Δs, Δs_r) ∥ (f, m/ρ²).
+    /// The disc's flow on the ellipsoid with unequal stick stiffnesses: the returned force is on
+    /// the surface, the plastic slip increments (Δs, Δθ) are along (f_tr, m_tr)'s signs, and
+    /// their ratio ε = |Δs|/(R|Δθ|) is the disc's for the returned direction:
+    /// |m|/|f| = R M̂(ε)/F̂(ε).
     #[test]
-    fn coupled_return_is_normal_to_the_ellipsoid() {
-        let p = FrictionParams {
-            coupling: 1,
-            k_stick: 1e4,
-            k_stick_r1: 7.0, // ≠ k_s ρ² = 44.4
-            ..params()
-        };
-        let rho = 2.0 / 3.0 * 0.1;
-        let st = FrictionState::default();
-        let r = update(
-            &p,
-            &st,
-            [-10.0, 0.0, 0.0],
-            [0.3, -0.2, 2.0],
-            [0.0; 3],
-            Eval::Step,
-        );
-        let (f, m) = ([r.force[0], r.force[1]], r.force[2]);
-        let on = (f[0] * f[0] + f[1] * f[1] + (m / rho).powi(2)).sqrt();
-        assert!((on - 5.0).abs() < 1e-10, "on the ellipsoid: {on}");
-        let ds = [
-            r.state.slip_plastic[0],
-            r.state.slip_plastic[1],
-            r.state.slip_plastic_r1,
-        ];
-        let normal = [f[0], f[1], m / (rho * rho)];
-        let cross = [
-            ds[1] * normal[2] - ds[2] * normal[1],
-            ds[2] * normal[0] - ds[0] * normal[2],
-            ds[0] * normal[1] - ds[1] * normal[0],
-        ];
-        let size = |v: [f64; 3]| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-        assert!(
-            size(cross) < 1e-9 * size(ds) * size(normal),
-            "flow is normal"
-        );
+    fn coupled_return_follows_the_disc() {
+        for (k_r, pos) in [
+            (7.0, [0.3, -0.2, 2.0]),
+            (1e3, [1e-3, 2e-3, -0.05]),
+            (44.4, [-0.5, 0.0, 1e-3]),
+        ] {
+            let p = FrictionParams {
+                coupling: 1,
+                k_stick: 1e4,
+                k_stick_r1: k_r,
+                ..params()
+            };
+            let rho = 2.0 / 3.0 * 0.1;
+            let r = update(
+                &p,
+                &FrictionState::default(),
+                [-10.0, 0.0, 0.0],
+                pos,
+                [0.0; 3],
+                Eval::Step(1e-3),
+            );
+            let (f, m) = ([r.force[0], r.force[1]], r.force[2]);
+            let on = (f[0] * f[0] + f[1] * f[1] + (m / rho).powi(2)).sqrt();
+            assert!((on - 5.0).abs() < 1e-12, "on the ellipsoid: {on}");
+            let ds = r.state.slip_plastic;
+            let ds_r = r.state.slip_plastic_r1;
+            // sliding increment along the trial force, spin increment with the trial's sign
+            assert!((ds[0] * pos[1] - ds[1] * pos[0]).abs() < 1e-15);
+            assert!(ds[0] * pos[0] + ds[1] * pos[1] > 0.0 && ds_r * pos[2] > 0.0);
+            let (f_hat, m_hat) = disc_law(ds[0].hypot(ds[1]), 0.1 * ds_r.abs());
+            let want = 0.1 * m_hat / f_hat;
+            let got = m.abs() / f[0].hypot(f[1]);
+            assert!((got / want - 1.0).abs() < 1e-12, "{got} vs {want}");
+        }
     }
 
     /// The tangent evaluation of a slipping effect stays on the slip branch: just inside the
@@ -524,7 +624,7 @@ mod tests {
             [-10.0, 0.0, 0.0],
             [1e-2, 0.0, 0.0],
             [0.0; 3],
-            Eval::Step,
+            Eval::Step(1e-3),
         );
         assert_eq!(slipped.state.status, Status::Slip);
         let inside = [1e-2 - 1e-6, 0.0, 0.0];
@@ -549,6 +649,97 @@ mod tests {
             (tangent.force[0] - 5.0).abs() < 1e-12,
             "tangent: on the limit"
         );
+    }
+
+    /// Stick dampers: in stick f = k e + c·rate; a slipping substep returns with k + c/h
+    /// (backward Euler on the plastic slip), and reading again where it ended gives its bits.
+    #[test]
+    fn stick_damper_is_parallel_to_the_stick_spring() {
+        let p = FrictionParams {
+            c_stick: 50.0,
+            c_stick_r1: 0.5,
+            ..params()
+        };
+        let h = 1e-3;
+        let n = [-10.0, 0.0, 0.0];
+        let st = FrictionState::default();
+        let r = update(
+            &p,
+            &st,
+            n,
+            [1e-4, 0.0, 0.0],
+            [0.02, 0.0, 0.0],
+            Eval::Step(h),
+        );
+        assert_eq!(r.out.status, Status::Stick);
+        assert!((r.force[0] - (1e4 * 1e-4 + 50.0 * 0.02)).abs() < 1e-12);
+        // the damper stores nothing
+        assert!((r.stored - 0.5 * 1e4 * 1e-8).abs() < 1e-18);
+        // breakaway: trial 1e4·1e-3 + 50·0.1 = 15 > μN = 5
+        let (pos, rate) = ([1e-3, 0.0, 0.0], [0.1, 0.0, 0.0]);
+        let s = update(&p, &r.state, n, pos, rate, Eval::Step(h));
+        assert_eq!(s.out.status, Status::Slip);
+        assert!((s.force[0] - 5.0).abs() < 1e-12);
+        let ds = (15.0 - 5.0) / (1e4 + 50.0 / h);
+        assert!((s.state.slip_plastic[0] - ds).abs() < 1e-15);
+        assert!((s.state.slip_rate[0] - ds / h).abs() < 1e-12);
+        let again = update(&p, &s.state, n, pos, rate, Eval::Read);
+        assert_eq!(again.force, s.force);
+        assert_eq!(again.out.status, Status::Slip);
+    }
+
+    /// Along any path of substeps, the trapezoidal work of the friction force equals the change
+    /// of the stick springs' energy plus the dissipation (plastic slip and stick dampers).
+    #[test]
+    fn friction_energy_balances_with_stick_dampers() {
+        for coupling in [0, 1] {
+            let p = FrictionParams {
+                c_stick: 30.0,
+                c_stick_r1: 0.3,
+                coupling,
+                ..params()
+            };
+            let n = [-10.0, 0.0, 0.0];
+            let h = 2e-3;
+            let path = |t: Real| {
+                [
+                    [
+                        0.02 * (7.0 * t).sin(),
+                        0.01 * (3.0 * t).cos() - 0.01,
+                        0.3 * (5.0 * t).sin(),
+                    ],
+                    [
+                        0.14 * (7.0 * t).cos(),
+                        -0.03 * (3.0 * t).sin(),
+                        1.5 * (5.0 * t).cos(),
+                    ],
+                ]
+            };
+            let mut st = FrictionState::default();
+            // from rest: no force, nothing stored
+            let (mut work, mut slips) = (0.0, 0);
+            let mut pos0 = path(0.0)[0];
+            for i in 1..=2000 {
+                let [pos, rate] = path(i as Real * h);
+                let r = update(&p, &st, n, pos, rate, Eval::Step(h));
+                for k in 0..3 {
+                    work += 0.5 * (st.force[k] + r.force[k]) * (pos[k] - pos0[k]);
+                }
+                slips += (r.out.status == Status::Slip) as i32;
+                st = r.state;
+                pos0 = pos;
+                let balance = work - r.stored - st.dissipated;
+                assert!(
+                    balance.abs() <= 1e-12 * st.dissipated.max(1.0),
+                    "{coupling} {i}: {balance}"
+                );
+            }
+            assert!(
+                slips > 200 && st.dissipated > 0.1,
+                "{coupling}: {slips} {}",
+                st.dissipated
+            );
+        }
     }
 
     #[test]

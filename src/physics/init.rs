@@ -6,7 +6,7 @@ use super::kinematics::{geometry, Branches, ConnectionType, Node, Singular};
 
 /// The initial state for nodes (a, b): component positions become the initial values
 /// (CU = 0, SLIDE-PLANE x0), angle branches start on their principal values, friction starts
-/// with zero elastic slip, and stop status and dissipation powers follow the configuration.
+/// with zero elastic slip (and the stick dampers' force at the initial rates), and stop status and dissipation powers follow the configuration.
 pub fn initial_state(
     ct: ConnectionType,
     p: &Params,
@@ -25,6 +25,8 @@ pub fn initial_state(
     st.stop_status = next.stop_status;
     st.friction.status = next.friction.status;
     st.friction.status_r1 = next.friction.status_r1;
+    // with stick dampers the initial relative rates already load the stick
+    st.friction.force = next.friction.force;
     st.power = next.power;
     Ok(st)
 }

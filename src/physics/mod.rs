@@ -1,6 +1,7 @@
 //! Pure connector physics: plain data in, plain data out, no FMI types, no allocation.
 
 pub mod connector;
+pub mod disc;
 pub mod friction;
 pub mod init;
 pub mod kinematics;

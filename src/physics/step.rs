@@ -132,7 +132,7 @@ pub fn advance(
             alpha_prev = alpha;
         }
         let (mut o, mut next) =
-            evaluate(ct, p, &s, &a, &b, Eval::Step).map_err(|e| StepError::Singular(e, tau))?;
+            evaluate(ct, p, &s, &a, &b, Eval::Step(dt)).map_err(|e| StepError::Singular(e, tau))?;
         // trapezoidal rule on the dissipation powers
         next.dissipated.damping += 0.5 * (s.power[0] + next.power[0]) * dt;
         next.dissipated.stops += 0.5 * (s.power[1] + next.power[1]) * dt;

@@ -319,7 +319,8 @@ def _nonneg_params(variant):
     if variant == "Planar":
         names += ["constraint.stiffness", "constraint.damping", "constraint.rotStiffness",
                   "constraint.rotDamping", "friction.muStatic", "friction.muKinetic", "friction.R",
-                  "friction.stickStiffness", "friction.stickStiffnessR1"]
+                  "friction.stickStiffness", "friction.stickStiffnessR1", "friction.stickDamping",
+                  "friction.stickDampingR1"]
     return names
 
 
