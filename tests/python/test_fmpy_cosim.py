@@ -423,6 +423,30 @@ def test_rollback_planar_friction_bitwise(conn, phase):
     assert fresh.drive(inputs_at, N_ROLL, H_ROLL) == first
 
 
+@pytest.mark.parametrize("coupling", [0, 1])
+def test_rollback_planar_stick_dampers_bitwise(conn, coupling):
+    """The same rollback and serialization checks with stick dampers, whose elastic slip and
+    plastic slip rate are part of the FMU state, uncoupled and coupled. Uncoupled: saved in
+    stick, the recorded window also slips (found by a survey run). Coupled: on this path the
+    spin keeps the coupled limit slipping through the reversals, so the window is all slip."""
+    params, inputs_at = scenario("Planar")
+    params.update({"friction.coupling": coupling, "friction.stickDamping": 200.0,
+                   "friction.stickDampingR1": 0.5})
+    survey = conn("Planar").start(params, inputs_at(0.0))
+    status = [r[1][survey.int_out.index(survey.v["friction.status"])]
+              for r in survey.drive(inputs_at, 400, H_ROLL)]
+    want = {1, 2} if coupling == 0 else {2}
+    i_save = next(i for i in range(20, len(status) - N_ROLL)
+                  if status[i] == min(want) and set(status[i + 1:i + 1 + N_ROLL]) == want)
+    c = conn("Planar").start(params, inputs_at(0.0))
+    _before, _restored, first, state, t_save = _rollback_check(c, inputs_at, i_save + 1)
+    assert {r[1][c.int_out.index(c.v["friction.status"])] for r in first} == want
+    data = c.s.serializeFMUstate(state)
+    assert len(data) <= 1024, len(data)
+    c.s.freeFMUstate(state)
+    assert _fresh_restore(conn, "Planar", data, t_save).drive(inputs_at, N_ROLL, H_ROLL) == first
+
+
 @pytest.mark.parametrize("variant", VARIANTS)
 def test_restored_state_reports_the_saved_values(conn, variant):
     """Right after fmi2SetFMUstate (same instance, or a fresh one from the serialized bytes)
@@ -655,16 +679,27 @@ def _planar_pose(dx=0.0, dy=0.0, dz=0.0, dpsi=0.0, vrel=(0.0, 0.0, 0.0), wrel=0.
     }
 
 
-@pytest.mark.parametrize("case", ["stick", "slip", "stop"])
-def test_directional_derivatives_planar_friction_and_stop(conn, case):
+PLANAR_DD_VARIANTS = {
+    "abaqus": {},
+    "coupled": {"friction.coupling": 1},
+    "stick-dampers": {"friction.stickDamping": 300.0, "friction.stickDampingR1": 3.0},
+}
+PLANAR_DD_CASES = [("stick", "abaqus"), ("slip", "abaqus"), ("stop", "abaqus"),
+                   ("stick", "coupled"), ("slip", "coupled"),
+                   ("stick", "stick-dampers"), ("slip", "stick-dampers")]
+
+
+@pytest.mark.parametrize("case,friction", PLANAR_DD_CASES, ids=[f"{c}-{f}" for c, f in PLANAR_DD_CASES])
+def test_directional_derivatives_planar_friction_and_stop(conn, case, friction):
     """Friction on (limit mu F_NC ~ 0.39 * 270 N ~ 100 N, stick range ~10 mm; spin limit
     ~ 0.39 * 8.3 N.m ~ 3 N.m, range ~ 30 mrad). A first step (hold) slides b by 20 mm and turns
     it by 80 mrad, which commits a slip state on both effects. Then:
       slip: 1 mm further on (trial ~10 N beyond the limit, moving: mu(rate) smooth);
       stick: 3 mm and 10 mrad back (trial ~30 N inside the limit);
-      stop: as slip, with u2 pushed 7 mm into an upper stop (1e5 N/m), moving into it."""
+      stop: as slip, with u2 pushed 7 mm into an upper stop (1e5 N/m), moving into it.
+    Also with the coupled limit (friction.coupling = 1) and with stick dampers."""
     P = "Planar"
-    params = dict(PLANAR_DD)
+    params = {**PLANAR_DD, **PLANAR_DD_VARIANTS[friction]}
     if case == "stop":
         params.update({"stop.upper2": PL_Y0 + 0.014, "stop.stiffness": 1.0e5, "stop.damping": 50.0})
     c = conn(P).start(params, _ref.pose_to_inputs(P, _planar_pose()))
@@ -694,6 +729,8 @@ def test_directional_derivatives_planar_friction_and_stop(conn, case):
     J_fd, _ = _assert_jacobians(c, knowns, _unknowns(P), f"Planar {case}")
     # physics sanity of the tangent (independent of the FMU): in stick, dCTF2/d(b.r) along e2a
     # includes the stick stiffness 1e4 (plus spring 200); in slip it does not.
+    if friction == "coupled":
+        return
     e2a = RA0[:, 1]
     col = np.array([J_fd[_unknowns(P).index("CTF2"), knowns.index(f"b.r[{j}]")] for j in (1, 2, 3)])
     k_tan = float(col @ e2a)
