@@ -13,6 +13,7 @@ use crate::variables::{
     table, Causality, CompOut, CompPar, Field, FrictionField, ScalarPar, Start, Table, VarSpec,
     Variability, Variant,
 };
+use std::sync::OnceLock;
 
 /// Where the instance is in the FMI 2.0 Co-Simulation state machine.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -129,6 +130,8 @@ pub struct Snapshot {
 pub struct ModelInstance {
     /// The variant's variable table.
     pub table: &'static Table,
+    /// The same table as what fmi2SetReal / fmi2GetReal do with each VR.
+    real_slots: &'static [RealSlot],
     ct: ConnectionType,
     name: String,
     logger: Box<dyn LogSink>,
@@ -172,6 +175,7 @@ impl ModelInstance {
         let table = table(variant);
         ModelInstance {
             table,
+            real_slots: real_slots(table),
             ct: table.spec.connection,
             name: name.to_string(),
             logger,
@@ -431,9 +435,9 @@ impl ModelInstance {
         self.allowed(Call::Set, F)?;
         let mut inputs = self.s.inputs;
         for (&vr, &x) in vrs.iter().zip(values) {
-            match self.table.get(vr).map(|v| v.field) {
-                Some(Field::Input { node, idx }) if x.is_finite() => {
-                    inputs[node as usize][idx as usize] = x;
+            match self.real_slots.get(vr as usize) {
+                Some(&RealSlot::Input(j)) if x.is_finite() => {
+                    inputs.as_flattened_mut()[j as usize] = x;
                 }
                 _ => return self.set_batch(vrs, values, Ty::Real, F, write_real),
             }
@@ -557,6 +561,37 @@ impl ModelInstance {
 
     /// fmi2GetReal.
     pub fn get_real(&mut self, vrs: &[u32], out: &mut [Real]) -> FmuResult<()> {
+        const F: &str = "fmi2GetReal";
+        // The per-step path: every VR a Real variable (else the general get names the culprit),
+        // checked before anything is written, then read through the slot table.
+        self.allowed(Call::Get, F)?;
+        let mut any_output = false;
+        for &vr in vrs {
+            match self.real_slots.get(vr as usize) {
+                Some(RealSlot::Load(_) | RealSlot::Output(_)) => any_output = true,
+                Some(RealSlot::Input(_) | RealSlot::Param(_)) => {}
+                _ => return self.get_real_general(vrs, out),
+            }
+        }
+        if any_output {
+            self.outputs(F)?;
+        }
+        let (slots, s, o) = (self.real_slots, &self.s, self.cache.as_ref());
+        for (&vr, slot) in vrs.iter().zip(out.iter_mut()) {
+            *slot = match (slots[vr as usize], o) {
+                (RealSlot::Input(j), _) => s.inputs.as_flattened()[j as usize],
+                (RealSlot::Load(j), Some(o)) => load(o, j),
+                (RealSlot::Output(f), Some(o)) => read_output(o, f),
+                (RealSlot::Output(f) | RealSlot::Param(f), _) => read_real_param(&s.params, f),
+                (RealSlot::Load(_) | RealSlot::None, _) => 0.0,
+            };
+        }
+        Ok(())
+    }
+
+    /// fmi2GetReal through the variable table (reports unknown VRs and VRs of other types).
+    #[cold]
+    fn get_real_general(&mut self, vrs: &[u32], out: &mut [Real]) -> FmuResult<()> {
         self.get_values(vrs, out, Ty::Real, "fmi2GetReal", |s, v, o| {
             match (v.field, o) {
                 (Field::Input { node, idx }, _) => s.inputs[node as usize][idx as usize],
@@ -832,6 +867,49 @@ impl Ty {
     }
 }
 
+/// What fmi2SetReal / fmi2GetReal do with one value reference: the variable table reduced to
+/// what the per-step calls need, indexed by VR (built once per variant).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum RealSlot {
+    /// No Real variable has this VR: the general path reports it.
+    None,
+    /// A node input (`Field::Input`), by its index 13·node + idx in the flattened inputs.
+    Input(u8),
+    /// A node load (`Field::Load`), by its index 3·which + i: fa, ma, fb, mb.
+    Load(u8),
+    /// Any other Real output: read from the outputs at the current inputs.
+    Output(Field),
+    /// A Real parameter: read from the parameters (set through the checked batch).
+    Param(Field),
+}
+
+/// The Real slots of a variant's table, by VR.
+fn real_slots(t: &'static Table) -> &'static [RealSlot] {
+    static SLOTS: [OnceLock<Box<[RealSlot]>>; 5] = [
+        OnceLock::new(),
+        OnceLock::new(),
+        OnceLock::new(),
+        OnceLock::new(),
+        OnceLock::new(),
+    ];
+    SLOTS[t.spec.variant as usize].get_or_init(|| {
+        let n = t.vars.iter().map(|v| v.vr as usize + 1).max().unwrap_or(0);
+        let mut slots = vec![RealSlot::None; n];
+        for v in &t.vars {
+            if Ty::of(&v.start) != Ty::Real || !t.get(v.vr).is_some_and(|x| std::ptr::eq(x, v)) {
+                continue;
+            }
+            slots[v.vr as usize] = match (v.field, v.causality) {
+                (Field::Input { node, idx }, _) => RealSlot::Input(13 * node + idx),
+                (Field::Load { which, i }, Causality::Output) => RealSlot::Load(3 * which + i),
+                (f, Causality::Output) => RealSlot::Output(f),
+                (f, _) => RealSlot::Param(f),
+            };
+        }
+        slots.into_boxed_slice()
+    })
+}
+
 /// The message for an unknown VR or a VR of another type (off the hot path).
 #[cold]
 fn var_error(vr: u32, found: Option<&VarSpec>, want: Ty, fname: &str) -> FmuError {
@@ -1017,9 +1095,21 @@ pub(crate) fn read_real_param(p: &Params, f: Field) -> Real {
     }
 }
 
+/// Node load 3·which + i: fa, ma, fb, mb.
+#[inline]
+fn load(o: &Outputs, j: u8) -> Real {
+    let v = match j / 3 {
+        0 => &o.fa,
+        1 => &o.ma,
+        2 => &o.fb,
+        _ => &o.mb,
+    };
+    v[(j % 3) as usize]
+}
+
 fn read_output(o: &Outputs, f: Field) -> Real {
     match f {
-        Field::Load { which, i } => [o.fa, o.ma, o.fb, o.mb][which as usize][i as usize],
+        Field::Load { which, i } => load(o, 3 * which + i),
         Field::Comp { out, k } => {
             let k = k as usize;
             match out {
