@@ -3,12 +3,12 @@
 //! `fmi2` converts pointers and statuses and logs what this layer returns.
 
 use crate::error::{Category, FmuError, FmuResult, Level};
-use crate::physics::connector::{evaluate, Extrapolation, Outputs, Params, State};
+use crate::physics::connector::{evaluate_into, Extrapolation, Outputs, Params, State};
 use crate::physics::friction::{Eval, Status};
 use crate::physics::init::initial_state;
 use crate::physics::kinematics::{ConnectionType, Node, Singular};
 use crate::physics::math::{quat_from_wxyz, Real, Vec3};
-use crate::physics::step::{advance, Rates, StepError};
+use crate::physics::step::{advance_into, Rates, StepError};
 use crate::variables::{
     table, Causality, CompOut, CompPar, Field, FrictionField, ScalarPar, Start, Table, VarSpec,
     Variability, Variant,
@@ -138,8 +138,8 @@ pub struct ModelInstance {
     logging_on: bool,
     categories: [bool; 4],
     s: Snapshot,
-    /// Outputs at the current inputs and committed state (None = to be computed).
-    cache: Option<Outputs>,
+    /// Outputs at the current inputs and committed state.
+    cache: OutputCache,
 }
 
 fn start_snapshot(t: &Table) -> Snapshot {
@@ -182,7 +182,7 @@ impl ModelInstance {
             logging_on,
             categories: [true; 4],
             s: start_snapshot(table),
-            cache: None,
+            cache: OutputCache::new(),
         }
     }
 
@@ -275,7 +275,7 @@ impl ModelInstance {
     pub fn enter_initialization_mode(&mut self) -> FmuResult<()> {
         self.allowed(Call::Setup, "fmi2EnterInitializationMode")?;
         self.s.mode = Mode::InitializationMode;
-        self.cache = None;
+        self.cache.clear();
         Ok(())
     }
 
@@ -303,7 +303,7 @@ impl ModelInstance {
         }
         self.s.state = st;
         self.s.mode = Mode::StepComplete;
-        self.cache = None;
+        self.cache.clear();
         Ok(())
     }
 
@@ -318,7 +318,7 @@ impl ModelInstance {
     pub fn reset(&mut self) -> FmuResult<()> {
         self.allowed(Call::Lifecycle, "fmi2Reset")?;
         self.s = start_snapshot(self.table);
-        self.cache = None;
+        self.cache.clear();
         Ok(())
     }
 
@@ -401,7 +401,7 @@ impl ModelInstance {
             }
             if inputs != self.s.inputs {
                 self.s.inputs = inputs;
-                self.cache = None;
+                self.cache.clear();
             }
             return Ok(());
         }
@@ -421,7 +421,7 @@ impl ModelInstance {
         if params != self.s.params || inputs != self.s.inputs {
             self.s.params = params;
             self.s.inputs = inputs;
-            self.cache = None;
+            self.cache.clear();
         }
         Ok(())
     }
@@ -444,7 +444,7 @@ impl ModelInstance {
         }
         if inputs != self.s.inputs {
             self.s.inputs = inputs;
-            self.cache = None;
+            self.cache.clear();
         }
         Ok(())
     }
@@ -506,31 +506,21 @@ impl ModelInstance {
     /// Outputs at the given inputs with the committed state (in initialization: with the
     /// state the instance would start from at those inputs).
     fn evaluate_at(&self, inputs: &[NodeInputs; 2], mode: Eval, fname: &str) -> FmuResult<Outputs> {
-        let (a, b) =
-            nodes_of(inputs).map_err(|e| FmuError::error(format!("{fname}: {}", e.message)))?;
-        let st = if self.s.mode == Mode::InitializationMode {
-            initial_state(self.ct, &self.s.params, &a, &b).map_err(|e| singular_error(fname, e))?
-        } else {
-            self.s.state
-        };
-        let (o, _) = evaluate(self.ct, &self.s.params, &st, &a, &b, mode)
-            .map_err(|e| singular_error(fname, e))?;
-        if !crate::physics::step::outputs_finite(&o) {
-            return Err(FmuError::error(format!(
-                "{fname}: the outputs at these inputs are not finite"
-            )));
-        }
+        let mut o = Outputs::default();
+        evaluate_at_into(self.ct, &self.s, inputs, mode, fname, &mut o)?;
         Ok(o)
     }
 
     /// Outputs at the current inputs and committed state, cached until something changes.
     fn outputs(&mut self, fname: &str) -> FmuResult<&Outputs> {
-        if self.cache.is_none() {
-            self.cache = Some(self.evaluate_at(&self.s.inputs, Eval::Read, fname)?);
+        if self.cache.get().is_none() {
+            let s = &self.s;
+            evaluate_at_into(self.ct, s, &s.inputs, Eval::Read, fname, self.cache.spare())?;
+            self.cache.commit_spare();
         }
         // just filled when it was empty
         self.cache
-            .as_ref()
+            .get()
             .ok_or_else(|| FmuError::error(format!("{fname}: no outputs")))
     }
 
@@ -552,7 +542,7 @@ impl ModelInstance {
         if any_output {
             self.outputs(fname)?;
         }
-        let o = self.cache.as_ref();
+        let o = self.cache.get();
         for (&vr, slot) in vrs.iter().zip(out.iter_mut()) {
             *slot = read(&self.s, self.var(vr, ty, fname)?, o);
         }
@@ -576,7 +566,7 @@ impl ModelInstance {
         if any_output {
             self.outputs(F)?;
         }
-        let (slots, s, o) = (self.real_slots, &self.s, self.cache.as_ref());
+        let (slots, s, o) = (self.real_slots, &self.s, self.cache.get());
         for (&vr, slot) in vrs.iter().zip(out.iter_mut()) {
             *slot = match (slots[vr as usize], o) {
                 (RealSlot::Input(j), _) => s.inputs.as_flattened()[j as usize],
@@ -700,27 +690,31 @@ impl ModelInstance {
             .map_err(|e| FmuError::error(format!("{F}: {}", e.message)))?;
         let (ra, rb) = (self.rates(0, &a), self.rates(1, &b));
         let before = self.wants(Category::Events).then_some(self.s.state);
-        match advance(
+        // the outputs at t + h are evaluated into the cache's spare buffer: it becomes the
+        // cache when the step is accepted, and a failed step leaves the cache as it was
+        let mut next = State::default();
+        match advance_into(
             self.ct,
             &self.s.params,
             &self.s.state,
             (&a, &ra),
             (&b, &rb),
             h,
+            (self.cache.spare(), &mut next),
         ) {
-            Ok(adv) => {
-                self.s.state = adv.state;
+            Ok((a1, b1)) => {
+                self.s.state = next;
                 self.s.time = t + h;
-                write_node(&mut self.s.inputs[0], &adv.a);
-                write_node(&mut self.s.inputs[1], &adv.b);
+                write_node(&mut self.s.inputs[0], &a1);
+                write_node(&mut self.s.inputs[1], &b1);
                 self.s.input_der_set = [[false; 13]; 2];
                 // Outputs are a function of (inputs, committed state) alone: the last substep
                 // was evaluated on the nodes exactly as they are written back, from the angle
                 // branches and friction state it commits, so its outputs are that function's
                 // value (bit for bit: a restored FMU state reports what was read at saving).
-                self.cache = Some(adv.outputs);
+                self.cache.commit_spare();
                 if let Some(before) = before {
-                    self.log_transitions(&before, &adv.state);
+                    self.log_transitions(&before, &self.s.state);
                 }
                 Ok(())
             }
@@ -822,9 +816,85 @@ impl ModelInstance {
         self.allowed(Call::Lifecycle, "fmi2SetFMUstate")?;
         self.own_state(s, "fmi2SetFMUstate")?;
         self.s = s.clone();
-        self.cache = None;
+        self.cache.clear();
         Ok(())
     }
+}
+
+/// The outputs at the current inputs and committed state, in one of two buffers: a step (or
+/// a read) evaluates into the spare one, which becomes the cache only when that succeeds. So
+/// outputs are never copied, and a failed evaluation leaves the cache as it was.
+struct OutputCache {
+    buf: [Outputs; 2],
+    /// The buffer holding the cache.
+    cur: usize,
+    /// Whether `buf[cur]` holds the outputs (else they are to be computed).
+    valid: bool,
+}
+
+impl OutputCache {
+    fn new() -> OutputCache {
+        OutputCache {
+            buf: [Outputs::default(); 2],
+            cur: 0,
+            valid: false,
+        }
+    }
+
+    /// The cached outputs, None when they are to be computed.
+    #[inline]
+    fn get(&self) -> Option<&Outputs> {
+        self.valid.then_some(&self.buf[self.cur])
+    }
+
+    /// Forgets the outputs (inputs, parameters or state changed).
+    #[inline]
+    fn clear(&mut self) {
+        self.valid = false;
+    }
+
+    /// The buffer that is not the cache, to evaluate into.
+    #[inline]
+    fn spare(&mut self) -> &mut Outputs {
+        &mut self.buf[1 - self.cur]
+    }
+
+    /// Makes the spare buffer, just filled, the cache.
+    #[inline]
+    fn commit_spare(&mut self) {
+        self.cur = 1 - self.cur;
+        self.valid = true;
+    }
+}
+
+/// Outputs at `inputs` with the committed state of `s` (in initialization: with the state the
+/// instance would start from at those inputs), written into `o`.
+fn evaluate_at_into(
+    ct: ConnectionType,
+    s: &Snapshot,
+    inputs: &[NodeInputs; 2],
+    mode: Eval,
+    fname: &str,
+    o: &mut Outputs,
+) -> FmuResult<()> {
+    let (a, b) =
+        nodes_of(inputs).map_err(|e| FmuError::error(format!("{fname}: {}", e.message)))?;
+    let init;
+    let st = if s.mode == Mode::InitializationMode {
+        init = initial_state(ct, &s.params, &a, &b).map_err(|e| singular_error(fname, e))?;
+        &init
+    } else {
+        &s.state
+    };
+    let mut next = State::default();
+    evaluate_into(ct, &s.params, st, &a, &b, mode, (o, &mut next))
+        .map_err(|e| singular_error(fname, e))?;
+    if !crate::physics::step::outputs_finite(o) {
+        return Err(FmuError::error(format!(
+            "{fname}: the outputs at these inputs are not finite"
+        )));
+    }
+    Ok(())
 }
 
 /// The nodes from raw inputs (quaternions normalised; a bad one is refused).

@@ -7,7 +7,7 @@
 //! −Σ F_k ∇c_k, i.e. the force vector f = Σ F_k e_k acts on node a as +f and on node b as −f.
 
 use super::friction::{self, Eval, FrictionOut, FrictionParams, FrictionState};
-use super::kinematics::{geometry, Branches, ConnectionType, Node, Role, Singular};
+use super::kinematics::{geometry_into, Branches, ConnectionType, Geometry, Node, Role, Singular};
 use super::math::{Real, Vec3};
 
 /// A penalty pair: translational and rotational stiffness and damping.
@@ -253,11 +253,31 @@ pub fn evaluate(
     b: &Node,
     mode: Eval,
 ) -> Result<(Outputs, State), Singular> {
-    let roles = ct.roles();
-    let g = geometry(ct, a, b, &st.branches)?;
-    let mut next = *st;
-    next.branches = g.branches;
     let mut o = Outputs::default();
+    let mut next = *st;
+    evaluate_into(ct, p, st, a, b, mode, (&mut o, &mut next))?;
+    Ok((o, next))
+}
+
+/// `evaluate` writing the outputs and the next state in place (the per-step path, where the
+/// outputs go straight into the instance's cache instead of being copied there).
+///
+/// Every field of `o` and `next` is overwritten; on an error their contents are unspecified.
+pub fn evaluate_into(
+    ct: ConnectionType,
+    p: &Params,
+    st: &State,
+    a: &Node,
+    b: &Node,
+    mode: Eval,
+    (o, next): (&mut Outputs, &mut State),
+) -> Result<(), Singular> {
+    let roles = ct.roles();
+    let mut g = Geometry::ZERO;
+    geometry_into(ct, a, b, &st.branches, &mut g)?;
+    *next = *st;
+    next.branches = g.branches;
+    *o = Outputs::default();
     let mut stored = 0.0;
     let mut p_damp = 0.0;
     let mut p_stop = 0.0;
@@ -345,7 +365,7 @@ pub fn evaluate(
         friction: next.friction.dissipated,
         ..st.dissipated
     };
-    Ok((o, next))
+    Ok(())
 }
 
 /// One-sided stop penalty on position `c` with rate `v`: (force, status, energy, power).

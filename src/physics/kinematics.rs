@@ -139,14 +139,19 @@ pub struct Grad {
     pub tb: Vec3,
 }
 
+impl Grad {
+    /// A component that does not depend on the node motions.
+    pub const ZERO: Grad = Grad {
+        xa: Vec3::new(0.0, 0.0, 0.0),
+        ta: Vec3::new(0.0, 0.0, 0.0),
+        xb: Vec3::new(0.0, 0.0, 0.0),
+        tb: Vec3::new(0.0, 0.0, 0.0),
+    };
+}
+
 impl Default for Grad {
     fn default() -> Self {
-        Grad {
-            xa: Vec3::zeros(),
-            ta: Vec3::zeros(),
-            xb: Vec3::zeros(),
-            tb: Vec3::zeros(),
-        }
+        Grad::ZERO
     }
 }
 
@@ -216,6 +221,20 @@ pub struct Geometry {
     pub triad: Mat3,
     /// Updated branches (committed by the caller only when the step is accepted).
     pub branches: Branches,
+}
+
+impl Geometry {
+    /// All zero, frames the identity: a value to evaluate into (`geometry_into`).
+    pub const ZERO: Geometry = Geometry {
+        pos: [0.0; 6],
+        grad: [Grad::ZERO; 6],
+        triad: Mat3::new(1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0),
+        branches: Branches {
+            beta: 0.0,
+            alpha: 0.0,
+            e_r_local: Vec3::new(1.0, 0.0, 0.0),
+        },
+    };
 }
 
 /// The centred projection triad of SPEC §4 with the flexion–torsion angles and Jacobians.
@@ -322,12 +341,28 @@ pub fn geometry(
     b: &Node,
     prev: &Branches,
 ) -> Result<Geometry, Singular> {
+    let mut g = Geometry::ZERO;
+    geometry_into(ct, a, b, prev, &mut g)?;
+    Ok(g)
+}
+
+/// `geometry` written into `g` (no copy of the result on the per-step path).
+///
+/// Every field of `g` is overwritten; on an error its contents are unspecified.
+#[inline]
+pub fn geometry_into(
+    ct: ConnectionType,
+    a: &Node,
+    b: &Node,
+    prev: &Branches,
+    g: &mut Geometry,
+) -> Result<(), Singular> {
     let ra = *a.q.to_rotation_matrix().matrix();
     let rb = *b.q.to_rotation_matrix().matrix();
     let d = b.r - a.r;
-    let mut g = Geometry {
+    *g = Geometry {
         pos: [0.0; 6],
-        grad: [Grad::default(); 6],
+        grad: [Grad::ZERO; 6],
         triad: ra,
         branches: *prev,
     };
@@ -444,7 +479,7 @@ pub fn geometry(
     }
 
     if g.pos.iter().all(|p| p.is_finite()) {
-        Ok(g)
+        Ok(())
     } else {
         Err(Singular::NotFinite)
     }

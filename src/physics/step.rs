@@ -2,7 +2,7 @@
 //! along the input extrapolation, the path-dependent state (friction, stops, angle branches)
 //! follows in internal substeps, and the dissipated energies are integrated.
 
-use super::connector::{evaluate, Outputs, Params, State};
+use super::connector::{evaluate_into, Outputs, Params, State};
 use super::friction::Eval;
 use super::kinematics::{flexion, ConnectionType, Node, Singular, ALPHA_MAX_GAP};
 use super::math::{Quat, Real, Vec3};
@@ -107,9 +107,34 @@ pub fn advance(
     (b0, rb): (&Node, &Rates),
     h: Real,
 ) -> Result<Advanced, StepError> {
+    let mut outputs = Outputs::default();
+    let mut state = *st;
+    let (a, b) = advance_into(ct, p, st, (a0, ra), (b0, rb), h, (&mut outputs, &mut state))?;
+    Ok(Advanced {
+        outputs,
+        state,
+        a,
+        b,
+    })
+}
+
+/// `advance` writing the outputs and the state at t + h in place (the per-step path: the
+/// outputs go straight into the instance's cache); returns the nodes at t + h.
+///
+/// On error the contents of `o` and `next` are unspecified and `st` is untouched.
+pub fn advance_into(
+    ct: ConnectionType,
+    p: &Params,
+    st: &State,
+    (a0, ra): (&Node, &Rates),
+    (b0, rb): (&Node, &Rates),
+    h: Real,
+    (o, next): (&mut Outputs, &mut State),
+) -> Result<(Node, Node), StepError> {
     let n = substeps(p, ra, rb, h)?;
     let dt = h / n as Real;
-    let mut s = *st;
+    // the state the substep starts from: `st`, then a copy of the last substep's end
+    let mut prev: Option<State> = None;
     let mut alpha_prev = flexion(&a0.q, &b0.q);
     for j in 1..=n {
         // time as t0 + j·dt, never accumulated
@@ -131,25 +156,20 @@ pub fn advance(
             }
             alpha_prev = alpha;
         }
-        let (mut o, mut next) =
-            evaluate(ct, p, &s, &a, &b, Eval::Step).map_err(|e| StepError::Singular(e, tau))?;
+        let s: &State = if j == 1 { st } else { prev.insert(*next) };
+        evaluate_into(ct, p, s, &a, &b, Eval::Step, (&mut *o, &mut *next))
+            .map_err(|e| StepError::Singular(e, tau))?;
         // trapezoidal rule on the dissipation powers
         next.dissipated.damping += 0.5 * (s.power[0] + next.power[0]) * dt;
         next.dissipated.stops += 0.5 * (s.power[1] + next.power[1]) * dt;
         o.energy.damping = next.dissipated.damping;
         o.energy.stops = next.dissipated.stops;
-        if !outputs_finite(&o) {
+        if !outputs_finite(o) {
             return Err(StepError::NotFinite(tau));
         }
         if j == n {
-            return Ok(Advanced {
-                outputs: o,
-                state: next,
-                a,
-                b,
-            });
+            return Ok((a, b));
         }
-        s = next;
     }
     // n ≥ 1, so the loop returned
     Err(StepError::NotFinite(0.0))
