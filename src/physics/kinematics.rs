@@ -194,9 +194,39 @@ pub const ALPHA_MAX_GAP: Real = 1e-3;
 /// Total flexion α = ∠(e3a, e3b) of two orientations.
 #[inline]
 pub fn flexion(qa: &Quat, qb: &Quat) -> Real {
-    let e3a = qa * Vec3::z();
-    let e3b = qb * Vec3::z();
-    e3a.cross(&e3b).norm().atan2(e3a.dot(&e3b))
+    Shafts::of(qa, qb).flexion()
+}
+
+/// The shaft axes e3a, e3b of two orientations: their flexion α, or only cos α (no atan2).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shafts {
+    /// e3a (W).
+    pub e3a: Vec3,
+    /// e3b (W).
+    pub e3b: Vec3,
+}
+
+impl Shafts {
+    /// The shaft axes of orientations a and b.
+    #[inline]
+    pub fn of(qa: &Quat, qb: &Quat) -> Shafts {
+        Shafts {
+            e3a: qa * Vec3::z(),
+            e3b: qb * Vec3::z(),
+        }
+    }
+
+    /// cos α = e3a·e3b.
+    #[inline]
+    pub fn cos_flexion(&self) -> Real {
+        self.e3a.dot(&self.e3b)
+    }
+
+    /// The total flexion α = atan2(|e3a × e3b|, e3a·e3b) ∈ [0, π].
+    #[inline]
+    pub fn flexion(&self) -> Real {
+        self.e3a.cross(&self.e3b).norm().atan2(self.cos_flexion())
+    }
 }
 
 /// A configuration the kinematics cannot measure.

@@ -4,7 +4,7 @@
 
 use super::connector::{evaluate_into, Outputs, Params, State};
 use super::friction::Eval;
-use super::kinematics::{flexion, ConnectionType, Node, Singular, ALPHA_MAX_GAP};
+use super::kinematics::{ConnectionType, Node, Shafts, Singular, ALPHA_MAX_GAP};
 use super::math::{Quat, Real, Vec3};
 use std::f64::consts::PI;
 
@@ -55,6 +55,9 @@ pub fn extrapolate(n: &Node, rate: &Rates, tau: Real) -> Node {
 /// Largest relative rotation per substep (rad): keeps angle branches and turning slip paths
 /// resolved.
 pub const MAX_ROTATION_PER_SUBSTEP: Real = 0.25;
+/// Turn of a substep (rad) below which the path guard needs no flexion angles when both ends
+/// have α ≤ π/2: the room 2(π − gap) − α_prev − α is then at least π − 2·gap − round-off.
+const CLEAR_TURN: Real = 3.0;
 /// Most substeps one communication step may take.
 pub const MAX_SUBSTEPS: u32 = 100_000;
 
@@ -135,7 +138,10 @@ pub fn advance_into(
     let dt = h / n as Real;
     // the state the substep starts from: `st`, then a copy of the last substep's end
     let mut prev: Option<State> = None;
-    let mut alpha_prev = flexion(&a0.q, &b0.q);
+    // path guard of centred types (below): the shafts at the start of the substep, and the
+    // bound on the relative angular velocity, |ω_b − ω_a| + |ω̇_b − ω̇_a|·τ
+    let mut shafts_prev = Shafts::of(&a0.q, &b0.q);
+    let (w_rel0, w_rel1) = ((rb.dth - ra.dth).norm(), (rb.dw - ra.dw).norm());
     for j in 1..=n {
         // time as t0 + j·dt, never accumulated
         let tau = h * j as Real / n as Real;
@@ -145,16 +151,23 @@ pub fn advance_into(
             // α changes no faster than the relative angular velocity, so a substep whose ends
             // are both regular can still pass through the folded configuration between them:
             // refuse when the two ends are not far enough from π − gap for that to be ruled out.
-            let alpha = flexion(&a.q, &b.q);
-            let w_rel = (rb.dth - ra.dth).norm() + (rb.dw - ra.dw).norm() * tau;
-            let room = 2.0 * (PI - ALPHA_MAX_GAP) - alpha_prev - alpha;
-            if room < w_rel * dt {
-                return Err(StepError::Singular(
-                    Singular::FlexionNearPi(alpha.max(alpha_prev)),
-                    tau,
-                ));
+            let shafts = Shafts::of(&a.q, &b.q);
+            let turn = (w_rel0 + w_rel1 * tau) * dt;
+            // Both ends at α ≤ π/2 (cos α > 0) leave room ≥ π − 2·gap, more than CLEAR_TURN:
+            // the test would pass, so its two atan2 are skipped.
+            let clear =
+                shafts_prev.cos_flexion() > 0.0 && shafts.cos_flexion() > 0.0 && turn < CLEAR_TURN;
+            if !clear {
+                let (alpha_prev, alpha) = (shafts_prev.flexion(), shafts.flexion());
+                let room = 2.0 * (PI - ALPHA_MAX_GAP) - alpha_prev - alpha;
+                if room < turn {
+                    return Err(StepError::Singular(
+                        Singular::FlexionNearPi(alpha.max(alpha_prev)),
+                        tau,
+                    ));
+                }
             }
-            alpha_prev = alpha;
+            shafts_prev = shafts;
         }
         let s: &State = if j == 1 { st } else { prev.insert(*next) };
         evaluate_into(ct, p, s, &a, &b, Eval::Step, (&mut *o, &mut *next))
