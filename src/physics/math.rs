@@ -17,6 +17,21 @@ pub fn exp_so3(phi: &Vec3) -> Mat3 {
     Rotation3::from_scaled_axis(*phi).into_inner()
 }
 
+/// Unit quaternion of the rotation vector `phi` (exponential map): the same value, bit for
+/// bit, as nalgebra's `UnitQuaternion::from_scaled_axis` (identity below |φ/2|² ≤ ε², else
+/// (cos|φ/2|, sin|φ/2|·(φ/2)/|φ/2|)), without its exp(0) = 1 of the zero scalar part.
+#[inline]
+pub fn quat_exp(phi: &Vec3) -> Quat {
+    let v = phi / 2.0;
+    let nn = v.norm_squared();
+    if nn <= Real::EPSILON * Real::EPSILON {
+        return Quat::identity();
+    }
+    let n = nn.sqrt();
+    let (sin, cos) = n.sin_cos();
+    UnitQuaternion::new_unchecked(nalgebra::Quaternion::from_parts(cos, v * (sin / n)))
+}
+
 /// Rotation about the local 3-axis by `angle` (radians).
 #[inline]
 pub fn rot_z(angle: Real) -> Mat3 {

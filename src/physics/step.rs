@@ -5,7 +5,7 @@
 use super::connector::{evaluate_into, Outputs, Params, State};
 use super::friction::Eval;
 use super::kinematics::{ConnectionType, Node, Shafts, Singular, ALPHA_MAX_GAP};
-use super::math::{Quat, Real, Vec3};
+use super::math::{quat_exp, Real, Vec3};
 use std::f64::consts::PI;
 
 /// Rates along which a node is extrapolated over a step (all in W).
@@ -46,7 +46,7 @@ impl Rates {
 pub fn extrapolate(n: &Node, rate: &Rates, tau: Real) -> Node {
     Node {
         r: n.r + rate.dr * tau,
-        q: Quat::from_scaled_axis(rate.dth * tau) * n.q,
+        q: quat_exp(&(rate.dth * tau)) * n.q,
         v: n.v + rate.dv * tau,
         w: n.w + rate.dw * tau,
     }
@@ -190,17 +190,29 @@ pub fn advance_into(
 
 /// Whether every Real output is finite (NaN never reaches an output).
 pub fn outputs_finite(o: &Outputs) -> bool {
-    let arrays = [o.cp, o.cu, o.cv, o.cef, o.cvf, o.csf, o.crf, o.ctf];
+    // x·0 is ±0 for a finite x and NaN for ±∞ and NaN, so a sum of such terms is 0 exactly when
+    // every x is finite; summed lane by lane (no early exit), which the compiler vectorises
     let f = &o.friction;
     let e = &o.energy;
-    arrays.iter().all(|a| a.iter().all(|x| x.is_finite()))
-        && [o.fa, o.ma, o.fb, o.mb]
-            .iter()
-            .all(|v| v.iter().all(|x| x.is_finite()))
-        && [f.cnf, f.cnm1, f.csfc, f.csmc1, f.slip, f.slip_r1]
-            .iter()
-            .all(|x| x.is_finite())
-        && [e.stored, e.damping, e.friction, e.stops]
-            .iter()
-            .all(|x| x.is_finite())
+    let arrays = [
+        &o.cp,
+        &o.cu,
+        &o.cv,
+        &o.cef,
+        &o.cvf,
+        &o.csf,
+        &o.crf,
+        &o.ctf,
+        &[o.fa.x, o.fa.y, o.fa.z, o.ma.x, o.ma.y, o.ma.z],
+        &[o.fb.x, o.fb.y, o.fb.z, o.mb.x, o.mb.y, o.mb.z],
+        &[f.cnf, f.cnm1, f.csfc, f.csmc1, f.slip, f.slip_r1],
+        &[e.stored, e.damping, e.friction, e.stops, 0.0, 0.0],
+    ];
+    let mut lanes = [0.0; 6];
+    for a in arrays {
+        for (l, x) in lanes.iter_mut().zip(a) {
+            *l += x * 0.0;
+        }
+    }
+    lanes.iter().sum::<Real>() == 0.0
 }
