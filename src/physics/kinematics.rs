@@ -7,10 +7,7 @@
 //! velocities and node loads (virtual work) both follow from these gradients, so the loads
 //! are exactly in equilibrium and a purely elastic connector is exactly conservative.
 
-use super::math::{
-    continue_branch, exp_so3, one_minus_cos_over_sq, rot_z, sinc, x_over_sin, Mat3, Quat, Real,
-    Vec3,
-};
+use super::math::{continue_branch, exp_so3, rot_z, x_over_sin, Mat3, Quat, Real, SinCos, Vec3};
 
 /// Pose and twist of one node, all in W.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -315,8 +312,8 @@ pub fn centred(ra: &Mat3, rb: &Mat3, beta_prev: Real) -> Result<Centred, Singula
 
     // Jacobian ∂Θ/∂θ_b = M⁻¹ R_cᵀ with M = Jb − Ja (triad coordinates):
     // in-plane block (θ/sin θ)(I − q̂q̂ᵀ) + q̂q̂ᵀ, torsion 1/cos θ, θ = α/2.
-    let th = 0.5 * alpha;
-    let a_s = x_over_sin(th);
+    let th = SinCos::of(0.5 * alpha);
+    let a_s = th.x_over_sin();
     // (1 − a_s)/α², smooth: a_s ≈ 1 + α²/24 → −1/24
     let coef = if alpha < 1e-4 {
         -1.0 / 24.0
@@ -332,12 +329,12 @@ pub fn centred(ra: &Mat3, rb: &Mat3, beta_prev: Real) -> Result<Centred, Singula
         0.0,
         0.0,
         0.0,
-        1.0 / th.cos(),
+        1.0 / th.cos,
     );
     let k = m_inv * triad.transpose();
     // Triad variation δψ = ½(δθ_a + δθ_b) − R_c·N·δΘ with N = ½(Ja + Jb):
-    let h1 = one_minus_cos_over_sq(th);
-    let h2 = sinc(th);
+    let h1 = th.one_minus_cos_over_sq();
+    let h2 = th.sinc();
     let n = Mat3::new(
         0.0,
         0.0,
@@ -390,12 +387,11 @@ pub fn geometry_into(
     let ra = *a.q.to_rotation_matrix().matrix();
     let rb = *b.q.to_rotation_matrix().matrix();
     let d = b.r - a.r;
-    *g = Geometry {
-        pos: [0.0; 6],
-        grad: [Grad::ZERO; 6],
-        triad: ra,
-        branches: *prev,
-    };
+    // field by field: a struct literal would be built aside and copied
+    g.pos = [0.0; 6];
+    g.grad = [Grad::ZERO; 6];
+    g.triad = ra;
+    g.branches = *prev;
 
     // Local directions and, for the centred triad, the rotational components.
     let mut tri_a = Mat3::identity(); // ∂ψ/∂θ_a
