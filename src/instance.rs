@@ -566,14 +566,24 @@ impl ModelInstance {
         if any_output {
             self.outputs(F)?;
         }
-        let (slots, s, o) = (self.real_slots, &self.s, self.cache.get());
+        let (o, loads) = if let Some(o) = self.cache.get() {
+            // the node loads side by side, indexed by RealSlot::Load
+            let (fa, ma, fb, mb) = (o.fa, o.ma, o.fb, o.mb);
+            let loads = [
+                fa.x, fa.y, fa.z, ma.x, ma.y, ma.z, fb.x, fb.y, fb.z, mb.x, mb.y, mb.z,
+            ];
+            (Some(o), loads)
+        } else {
+            (None, [0.0; 12])
+        };
+        let (slots, s) = (self.real_slots, &self.s);
         for (&vr, slot) in vrs.iter().zip(out.iter_mut()) {
             *slot = match (slots[vr as usize], o) {
                 (RealSlot::Input(j), _) => s.inputs.as_flattened()[j as usize],
-                (RealSlot::Load(j), Some(o)) => load(o, j),
+                (RealSlot::Load(j), _) => loads[j as usize],
                 (RealSlot::Output(f), Some(o)) => read_output(o, f),
                 (RealSlot::Output(f) | RealSlot::Param(f), _) => read_real_param(&s.params, f),
-                (RealSlot::Load(_) | RealSlot::None, _) => 0.0,
+                (RealSlot::None, _) => 0.0,
             };
         }
         Ok(())
@@ -648,6 +658,10 @@ impl ModelInstance {
         }
         let der = &self.s.input_der[n];
         let set = &self.s.input_der_set[n];
+        if !set.contains(&true) {
+            // what the general case below gives without derivatives
+            return Rates::from_velocities(node);
+        }
         let v3 = |i: usize, fb: Vec3| {
             let pick = |j: usize, f: Real| if set[j] { der[j] } else { f };
             Vec3::new(pick(i, fb.x), pick(i + 1, fb.y), pick(i + 2, fb.z))
