@@ -277,12 +277,20 @@ pub fn evaluate_into(
     geometry_into(ct, a, b, &st.branches, &mut g)?;
     *next = *st;
     next.branches = g.branches;
-    *o = Outputs::default();
+    // Every output is written below, from zero where it accumulates (writing the struct
+    // as a whole first would cost a memset of all of it on every evaluation).
     let mut stored = 0.0;
     let mut p_damp = 0.0;
     let mut p_stop = 0.0;
 
     for (k, role) in roles.iter().enumerate() {
+        o.cp[k] = 0.0;
+        o.cu[k] = 0.0;
+        o.cv[k] = 0.0;
+        o.cef[k] = 0.0;
+        o.cvf[k] = 0.0;
+        o.crf[k] = 0.0;
+        o.cslst[k] = 0;
         if *role == Role::Absent {
             continue;
         }
@@ -328,6 +336,8 @@ pub fn evaluate_into(
 
     // PLANAR friction: normal force and moment from the constraint reactions f1, m2, m3
     // (F_NC and M_NR1 are reported even when μ = 0 turns the friction force off)
+    o.csf = [0.0; 6];
+    o.friction = FrictionOut::default();
     if ct.rot == super::kinematics::Rotational::Revolute {
         let fr = friction::update(
             &p.friction,
@@ -349,6 +359,7 @@ pub fn evaluate_into(
         o.ctf[k] = o.cef[k] + o.cvf[k] + o.csf[k] + o.crf[k];
     }
     // node loads by virtual work: −Σ F_k ∇c_k
+    (o.fa, o.ma, o.fb, o.mb) = (Vec3::zeros(), Vec3::zeros(), Vec3::zeros(), Vec3::zeros());
     for k in 0..6 {
         let f = o.ctf[k];
         if f != 0.0 {
