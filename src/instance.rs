@@ -442,7 +442,7 @@ impl ModelInstance {
                 _ => return self.set_batch(vrs, values, Ty::Real, F, write_real),
             }
         }
-        if inputs != self.s.inputs {
+        if differ(&inputs, &self.s.inputs) {
             self.s.inputs = inputs;
             self.cache.clear();
         }
@@ -1005,6 +1005,14 @@ fn var_error(vr: u32, found: Option<&VarSpec>, want: Ty, fname: &str) -> FmuErro
             Ty::of(&v.start)
         )),
     }
+}
+
+/// `a != b` for node inputs (the same value, NaN included: x != y is !(x == y) element by
+/// element), compared all at once without early exit, which the compiler vectorises.
+#[inline]
+fn differ(a: &[NodeInputs; 2], b: &[NodeInputs; 2]) -> bool {
+    let (a, b) = (a.as_flattened(), b.as_flattened());
+    a.iter().zip(b).fold(false, |d, (x, y)| d | (x != y))
 }
 
 /// Writes an extrapolated node back into the inputs.
