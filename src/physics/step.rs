@@ -125,6 +125,7 @@ pub fn advance(
 /// outputs go straight into the instance's cache); returns the nodes at t + h.
 ///
 /// On error the contents of `o` and `next` are unspecified and `st` is untouched.
+#[inline]
 pub fn advance_into(
     ct: ConnectionType,
     p: &Params,
