@@ -658,7 +658,7 @@ impl ModelInstance {
         }
         let der = &self.s.input_der[n];
         let set = &self.s.input_der_set[n];
-        if !set.contains(&true) {
+        if *set == [false; 13] {
             // what the general case below gives without derivatives
             return Rates::from_velocities(node);
         }
