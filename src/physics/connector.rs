@@ -284,14 +284,9 @@ pub fn evaluate_into(
     let mut p_stop = 0.0;
 
     for (k, role) in roles.iter().enumerate() {
-        o.cp[k] = 0.0;
-        o.cu[k] = 0.0;
-        o.cv[k] = 0.0;
-        o.cef[k] = 0.0;
-        o.cvf[k] = 0.0;
-        o.crf[k] = 0.0;
-        o.cslst[k] = 0;
         if *role == Role::Absent {
+            (o.cp[k], o.cu[k], o.cv[k]) = (0.0, 0.0, 0.0);
+            (o.cef[k], o.cvf[k], o.crf[k], o.cslst[k]) = (0.0, 0.0, 0.0, 0);
             continue;
         }
         let c = g.pos[k];
@@ -305,6 +300,7 @@ pub fn evaluate_into(
                 let target = if k == 0 { st.c0[0] } else { 0.0 };
                 let (kp, cp) = p.constraint.for_slot(k);
                 let gap = c - target;
+                (o.cef[k], o.cvf[k], o.cslst[k]) = (0.0, 0.0, 0);
                 o.crf[k] = kp * gap + cp * v;
                 stored += 0.5 * kp * gap * gap;
                 p_damp += cp * v * v;
@@ -324,7 +320,9 @@ pub fn evaluate_into(
                 let (ks, cs) = p.stop.for_slot(k);
                 let (force, status, energy, power) =
                     stop_force(c, v, p.stop_lower[k], p.stop_upper[k], ks, cs);
-                o.crf[k] += force;
+                // 0 + force, as when the reaction accumulated from zero: a stop force of −0
+                // reads +0
+                o.crf[k] = 0.0 + force;
                 o.cslst[k] = status as i32;
                 next.stop_status[k] = status;
                 stored += energy;
