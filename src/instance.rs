@@ -3,16 +3,17 @@
 //! `fmi2` converts pointers and statuses and logs what this layer returns.
 
 use crate::error::{Category, FmuError, FmuResult, Level};
-use crate::physics::connector::{evaluate, Extrapolation, Outputs, Params, State};
+use crate::physics::connector::{evaluate_into, Extrapolation, Outputs, Params, State};
 use crate::physics::friction::{Eval, Status};
 use crate::physics::init::initial_state;
 use crate::physics::kinematics::{ConnectionType, Node, Singular};
 use crate::physics::math::{quat_from_wxyz, Real, Vec3};
-use crate::physics::step::{advance, Rates, StepError};
+use crate::physics::step::{advance_into, Rates, StepError};
 use crate::variables::{
     table, Causality, CompOut, CompPar, Field, FrictionField, ScalarPar, Start, Table, VarSpec,
     Variability, Variant,
 };
+use std::sync::OnceLock;
 
 /// Where the instance is in the FMI 2.0 Co-Simulation state machine.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -129,14 +130,16 @@ pub struct Snapshot {
 pub struct ModelInstance {
     /// The variant's variable table.
     pub table: &'static Table,
+    /// The same table as what fmi2SetReal / fmi2GetReal do with each VR.
+    real_slots: &'static [RealSlot],
     ct: ConnectionType,
     name: String,
     logger: Box<dyn LogSink>,
     logging_on: bool,
     categories: [bool; 4],
     s: Snapshot,
-    /// Outputs at the current inputs and committed state (None = to be computed).
-    cache: Option<Outputs>,
+    /// Outputs at the current inputs and committed state.
+    cache: OutputCache,
 }
 
 fn start_snapshot(t: &Table) -> Snapshot {
@@ -172,13 +175,14 @@ impl ModelInstance {
         let table = table(variant);
         ModelInstance {
             table,
+            real_slots: real_slots(table),
             ct: table.spec.connection,
             name: name.to_string(),
             logger,
             logging_on,
             categories: [true; 4],
             s: start_snapshot(table),
-            cache: None,
+            cache: OutputCache::new(),
         }
     }
 
@@ -271,7 +275,7 @@ impl ModelInstance {
     pub fn enter_initialization_mode(&mut self) -> FmuResult<()> {
         self.allowed(Call::Setup, "fmi2EnterInitializationMode")?;
         self.s.mode = Mode::InitializationMode;
-        self.cache = None;
+        self.cache.clear();
         Ok(())
     }
 
@@ -299,7 +303,7 @@ impl ModelInstance {
         }
         self.s.state = st;
         self.s.mode = Mode::StepComplete;
-        self.cache = None;
+        self.cache.clear();
         Ok(())
     }
 
@@ -314,7 +318,7 @@ impl ModelInstance {
     pub fn reset(&mut self) -> FmuResult<()> {
         self.allowed(Call::Lifecycle, "fmi2Reset")?;
         self.s = start_snapshot(self.table);
-        self.cache = None;
+        self.cache.clear();
         Ok(())
     }
 
@@ -397,7 +401,7 @@ impl ModelInstance {
             }
             if inputs != self.s.inputs {
                 self.s.inputs = inputs;
-                self.cache = None;
+                self.cache.clear();
             }
             return Ok(());
         }
@@ -417,7 +421,7 @@ impl ModelInstance {
         if params != self.s.params || inputs != self.s.inputs {
             self.s.params = params;
             self.s.inputs = inputs;
-            self.cache = None;
+            self.cache.clear();
         }
         Ok(())
     }
@@ -431,16 +435,16 @@ impl ModelInstance {
         self.allowed(Call::Set, F)?;
         let mut inputs = self.s.inputs;
         for (&vr, &x) in vrs.iter().zip(values) {
-            match self.table.get(vr).map(|v| v.field) {
-                Some(Field::Input { node, idx }) if x.is_finite() => {
-                    inputs[node as usize][idx as usize] = x;
+            match self.real_slots.get(vr as usize) {
+                Some(&RealSlot::Input(j)) if x.is_finite() => {
+                    inputs.as_flattened_mut()[j as usize] = x;
                 }
                 _ => return self.set_batch(vrs, values, Ty::Real, F, write_real),
             }
         }
-        if inputs != self.s.inputs {
+        if differ(&inputs, &self.s.inputs) {
             self.s.inputs = inputs;
-            self.cache = None;
+            self.cache.clear();
         }
         Ok(())
     }
@@ -502,31 +506,21 @@ impl ModelInstance {
     /// Outputs at the given inputs with the committed state (in initialization: with the
     /// state the instance would start from at those inputs).
     fn evaluate_at(&self, inputs: &[NodeInputs; 2], mode: Eval, fname: &str) -> FmuResult<Outputs> {
-        let (a, b) =
-            nodes_of(inputs).map_err(|e| FmuError::error(format!("{fname}: {}", e.message)))?;
-        let st = if self.s.mode == Mode::InitializationMode {
-            initial_state(self.ct, &self.s.params, &a, &b).map_err(|e| singular_error(fname, e))?
-        } else {
-            self.s.state
-        };
-        let (o, _) = evaluate(self.ct, &self.s.params, &st, &a, &b, mode)
-            .map_err(|e| singular_error(fname, e))?;
-        if !crate::physics::step::outputs_finite(&o) {
-            return Err(FmuError::error(format!(
-                "{fname}: the outputs at these inputs are not finite"
-            )));
-        }
+        let mut o = Outputs::default();
+        evaluate_at_into(self.ct, &self.s, inputs, mode, fname, &mut o)?;
         Ok(o)
     }
 
     /// Outputs at the current inputs and committed state, cached until something changes.
     fn outputs(&mut self, fname: &str) -> FmuResult<&Outputs> {
-        if self.cache.is_none() {
-            self.cache = Some(self.evaluate_at(&self.s.inputs, Eval::Read, fname)?);
+        if self.cache.get().is_none() {
+            let s = &self.s;
+            evaluate_at_into(self.ct, s, &s.inputs, Eval::Read, fname, self.cache.spare())?;
+            self.cache.commit_spare();
         }
         // just filled when it was empty
         self.cache
-            .as_ref()
+            .get()
             .ok_or_else(|| FmuError::error(format!("{fname}: no outputs")))
     }
 
@@ -548,7 +542,7 @@ impl ModelInstance {
         if any_output {
             self.outputs(fname)?;
         }
-        let o = self.cache.as_ref();
+        let o = self.cache.get();
         for (&vr, slot) in vrs.iter().zip(out.iter_mut()) {
             *slot = read(&self.s, self.var(vr, ty, fname)?, o);
         }
@@ -557,6 +551,47 @@ impl ModelInstance {
 
     /// fmi2GetReal.
     pub fn get_real(&mut self, vrs: &[u32], out: &mut [Real]) -> FmuResult<()> {
+        const F: &str = "fmi2GetReal";
+        // The per-step path: every VR a Real variable (else the general get names the culprit),
+        // checked before anything is written, then read through the slot table.
+        self.allowed(Call::Get, F)?;
+        let mut any_output = false;
+        for &vr in vrs {
+            match self.real_slots.get(vr as usize) {
+                Some(RealSlot::Load(_) | RealSlot::Output(_)) => any_output = true,
+                Some(RealSlot::Input(_) | RealSlot::Param(_)) => {}
+                _ => return self.get_real_general(vrs, out),
+            }
+        }
+        if any_output {
+            self.outputs(F)?;
+        }
+        let (o, loads) = if let Some(o) = self.cache.get() {
+            // the node loads side by side, indexed by RealSlot::Load
+            let (fa, ma, fb, mb) = (o.fa, o.ma, o.fb, o.mb);
+            let loads = [
+                fa.x, fa.y, fa.z, ma.x, ma.y, ma.z, fb.x, fb.y, fb.z, mb.x, mb.y, mb.z,
+            ];
+            (Some(o), loads)
+        } else {
+            (None, [0.0; 12])
+        };
+        let (slots, s) = (self.real_slots, &self.s);
+        for (&vr, slot) in vrs.iter().zip(out.iter_mut()) {
+            *slot = match (slots[vr as usize], o) {
+                (RealSlot::Input(j), _) => s.inputs.as_flattened()[j as usize],
+                (RealSlot::Load(j), _) => loads[j as usize],
+                (RealSlot::Output(f), Some(o)) => read_output(o, f),
+                (RealSlot::Output(f) | RealSlot::Param(f), _) => read_real_param(&s.params, f),
+                (RealSlot::None, _) => 0.0,
+            };
+        }
+        Ok(())
+    }
+
+    /// fmi2GetReal through the variable table (reports unknown VRs and VRs of other types).
+    #[cold]
+    fn get_real_general(&mut self, vrs: &[u32], out: &mut [Real]) -> FmuResult<()> {
         self.get_values(vrs, out, Ty::Real, "fmi2GetReal", |s, v, o| {
             match (v.field, o) {
                 (Field::Input { node, idx }, _) => s.inputs[node as usize][idx as usize],
@@ -623,6 +658,10 @@ impl ModelInstance {
         }
         let der = &self.s.input_der[n];
         let set = &self.s.input_der_set[n];
+        if *set == [false; 13] {
+            // what the general case below gives without derivatives
+            return Rates::from_velocities(node);
+        }
         let v3 = |i: usize, fb: Vec3| {
             let pick = |j: usize, f: Real| if set[j] { der[j] } else { f };
             Vec3::new(pick(i, fb.x), pick(i + 1, fb.y), pick(i + 2, fb.z))
@@ -665,27 +704,31 @@ impl ModelInstance {
             .map_err(|e| FmuError::error(format!("{F}: {}", e.message)))?;
         let (ra, rb) = (self.rates(0, &a), self.rates(1, &b));
         let before = self.wants(Category::Events).then_some(self.s.state);
-        match advance(
+        // the outputs at t + h are evaluated into the cache's spare buffer: it becomes the
+        // cache when the step is accepted, and a failed step leaves the cache as it was
+        let mut next = State::default();
+        match advance_into(
             self.ct,
             &self.s.params,
             &self.s.state,
             (&a, &ra),
             (&b, &rb),
             h,
+            (self.cache.spare(), &mut next),
         ) {
-            Ok(adv) => {
-                self.s.state = adv.state;
+            Ok((a1, b1)) => {
+                self.s.state = next;
                 self.s.time = t + h;
-                write_node(&mut self.s.inputs[0], &adv.a);
-                write_node(&mut self.s.inputs[1], &adv.b);
+                write_node(&mut self.s.inputs[0], &a1);
+                write_node(&mut self.s.inputs[1], &b1);
                 self.s.input_der_set = [[false; 13]; 2];
                 // Outputs are a function of (inputs, committed state) alone: the last substep
                 // was evaluated on the nodes exactly as they are written back, from the angle
                 // branches and friction state it commits, so its outputs are that function's
                 // value (bit for bit: a restored FMU state reports what was read at saving).
-                self.cache = Some(adv.outputs);
+                self.cache.commit_spare();
                 if let Some(before) = before {
-                    self.log_transitions(&before, &adv.state);
+                    self.log_transitions(&before, &self.s.state);
                 }
                 Ok(())
             }
@@ -787,9 +830,85 @@ impl ModelInstance {
         self.allowed(Call::Lifecycle, "fmi2SetFMUstate")?;
         self.own_state(s, "fmi2SetFMUstate")?;
         self.s = s.clone();
-        self.cache = None;
+        self.cache.clear();
         Ok(())
     }
+}
+
+/// The outputs at the current inputs and committed state, in one of two buffers: a step (or
+/// a read) evaluates into the spare one, which becomes the cache only when that succeeds. So
+/// outputs are never copied, and a failed evaluation leaves the cache as it was.
+struct OutputCache {
+    buf: [Outputs; 2],
+    /// The buffer holding the cache.
+    cur: usize,
+    /// Whether `buf[cur]` holds the outputs (else they are to be computed).
+    valid: bool,
+}
+
+impl OutputCache {
+    fn new() -> OutputCache {
+        OutputCache {
+            buf: [Outputs::default(); 2],
+            cur: 0,
+            valid: false,
+        }
+    }
+
+    /// The cached outputs, None when they are to be computed.
+    #[inline]
+    fn get(&self) -> Option<&Outputs> {
+        self.valid.then_some(&self.buf[self.cur])
+    }
+
+    /// Forgets the outputs (inputs, parameters or state changed).
+    #[inline]
+    fn clear(&mut self) {
+        self.valid = false;
+    }
+
+    /// The buffer that is not the cache, to evaluate into.
+    #[inline]
+    fn spare(&mut self) -> &mut Outputs {
+        &mut self.buf[1 - self.cur]
+    }
+
+    /// Makes the spare buffer, just filled, the cache.
+    #[inline]
+    fn commit_spare(&mut self) {
+        self.cur = 1 - self.cur;
+        self.valid = true;
+    }
+}
+
+/// Outputs at `inputs` with the committed state of `s` (in initialization: with the state the
+/// instance would start from at those inputs), written into `o`.
+fn evaluate_at_into(
+    ct: ConnectionType,
+    s: &Snapshot,
+    inputs: &[NodeInputs; 2],
+    mode: Eval,
+    fname: &str,
+    o: &mut Outputs,
+) -> FmuResult<()> {
+    let (a, b) =
+        nodes_of(inputs).map_err(|e| FmuError::error(format!("{fname}: {}", e.message)))?;
+    let init;
+    let st = if s.mode == Mode::InitializationMode {
+        init = initial_state(ct, &s.params, &a, &b).map_err(|e| singular_error(fname, e))?;
+        &init
+    } else {
+        &s.state
+    };
+    let mut next = State::default();
+    evaluate_into(ct, &s.params, st, &a, &b, mode, (o, &mut next))
+        .map_err(|e| singular_error(fname, e))?;
+    if !crate::physics::step::outputs_finite(o) {
+        return Err(FmuError::error(format!(
+            "{fname}: the outputs at these inputs are not finite"
+        )));
+    }
+    Ok(())
 }
 
 /// The nodes from raw inputs (quaternions normalised; a bad one is refused).
@@ -832,6 +951,49 @@ impl Ty {
     }
 }
 
+/// What fmi2SetReal / fmi2GetReal do with one value reference: the variable table reduced to
+/// what the per-step calls need, indexed by VR (built once per variant).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum RealSlot {
+    /// No Real variable has this VR: the general path reports it.
+    None,
+    /// A node input (`Field::Input`), by its index 13·node + idx in the flattened inputs.
+    Input(u8),
+    /// A node load (`Field::Load`), by its index 3·which + i: fa, ma, fb, mb.
+    Load(u8),
+    /// Any other Real output: read from the outputs at the current inputs.
+    Output(Field),
+    /// A Real parameter: read from the parameters (set through the checked batch).
+    Param(Field),
+}
+
+/// The Real slots of a variant's table, by VR.
+fn real_slots(t: &'static Table) -> &'static [RealSlot] {
+    static SLOTS: [OnceLock<Box<[RealSlot]>>; 5] = [
+        OnceLock::new(),
+        OnceLock::new(),
+        OnceLock::new(),
+        OnceLock::new(),
+        OnceLock::new(),
+    ];
+    SLOTS[t.spec.variant as usize].get_or_init(|| {
+        let n = t.vars.iter().map(|v| v.vr as usize + 1).max().unwrap_or(0);
+        let mut slots = vec![RealSlot::None; n];
+        for v in &t.vars {
+            if Ty::of(&v.start) != Ty::Real || !t.get(v.vr).is_some_and(|x| std::ptr::eq(x, v)) {
+                continue;
+            }
+            slots[v.vr as usize] = match (v.field, v.causality) {
+                (Field::Input { node, idx }, _) => RealSlot::Input(13 * node + idx),
+                (Field::Load { which, i }, Causality::Output) => RealSlot::Load(3 * which + i),
+                (f, Causality::Output) => RealSlot::Output(f),
+                (f, _) => RealSlot::Param(f),
+            };
+        }
+        slots.into_boxed_slice()
+    })
+}
+
 /// The message for an unknown VR or a VR of another type (off the hot path).
 #[cold]
 fn var_error(vr: u32, found: Option<&VarSpec>, want: Ty, fname: &str) -> FmuError {
@@ -843,6 +1005,14 @@ fn var_error(vr: u32, found: Option<&VarSpec>, want: Ty, fname: &str) -> FmuErro
             Ty::of(&v.start)
         )),
     }
+}
+
+/// `a != b` for node inputs (the same value, NaN included: x != y is !(x == y) element by
+/// element), compared all at once without early exit, which the compiler vectorises.
+#[inline]
+fn differ(a: &[NodeInputs; 2], b: &[NodeInputs; 2]) -> bool {
+    let (a, b) = (a.as_flattened(), b.as_flattened());
+    a.iter().zip(b).fold(false, |d, (x, y)| d | (x != y))
 }
 
 /// Writes an extrapolated node back into the inputs.
@@ -1021,9 +1191,21 @@ pub(crate) fn read_real_param(p: &Params, f: Field) -> Real {
     }
 }
 
+/// Node load 3·which + i: fa, ma, fb, mb.
+#[inline]
+fn load(o: &Outputs, j: u8) -> Real {
+    let v = match j / 3 {
+        0 => &o.fa,
+        1 => &o.ma,
+        2 => &o.fb,
+        _ => &o.mb,
+    };
+    v[(j % 3) as usize]
+}
+
 fn read_output(o: &Outputs, f: Field) -> Real {
     match f {
-        Field::Load { which, i } => [o.fa, o.ma, o.fb, o.mb][which as usize][i as usize],
+        Field::Load { which, i } => load(o, 3 * which + i),
         Field::Comp { out, k } => {
             let k = k as usize;
             match out {

@@ -157,22 +157,31 @@ fn null_error(fname: &str, what: &str, n: usize) -> FmuError {
     ))
 }
 
-/// Checks what `from_raw_parts` needs beyond non-NULL: alignment and a sane total size.
+/// Checks what `from_raw_parts` needs: non-NULL, alignment and a sane total size.
+#[inline]
 fn check_array<T>(p: *const T, n: usize, what: &str, fname: &str) -> FmuResult<()> {
+    if !p.is_null() && p.is_aligned() && n <= isize::MAX as usize / std::mem::size_of::<T>().max(1)
+    {
+        return Ok(());
+    }
+    Err(array_error(p, n, what, fname))
+}
+
+/// The error `check_array` reports (off the per-step path).
+#[cold]
+#[inline(never)]
+fn array_error<T>(p: *const T, n: usize, what: &str, fname: &str) -> FmuError {
     if p.is_null() {
-        return Err(null_error(fname, what, n));
-    }
-    if !p.is_aligned() {
-        return Err(FmuError::error(format!(
+        null_error(fname, what, n)
+    } else if !p.is_aligned() {
+        FmuError::error(format!(
             "{fname}: argument {what} is not aligned for its element type"
-        )));
-    }
-    if n > isize::MAX as usize / std::mem::size_of::<T>().max(1) {
-        return Err(FmuError::error(format!(
+        ))
+    } else {
+        FmuError::error(format!(
             "{fname}: argument {what} has an impossible length {n}"
-        )));
+        ))
     }
-    Ok(())
 }
 
 /// An input array: `(NULL, 0)` is legal FMI (and `from_raw_parts(NULL, 0)` would be UB);
@@ -180,6 +189,7 @@ fn check_array<T>(p: *const T, n: usize, what: &str, fname: &str) -> FmuResult<(
 ///
 /// # Safety
 /// A non-NULL `p` points to `n` initialised elements that stay valid and unmodified for `'a`.
+#[inline]
 pub(crate) unsafe fn in_slice<'a, T>(
     p: *const T,
     n: usize,
@@ -198,6 +208,7 @@ pub(crate) unsafe fn in_slice<'a, T>(
 ///
 /// # Safety
 /// A non-NULL `p` points to `n` writable elements, not aliased by anything else, for `'a`.
+#[inline]
 pub(crate) unsafe fn out_slice<'a, T>(
     p: *mut T,
     n: usize,

@@ -7,7 +7,7 @@
 //! −Σ F_k ∇c_k, i.e. the force vector f = Σ F_k e_k acts on node a as +f and on node b as −f.
 
 use super::friction::{self, Eval, FrictionOut, FrictionParams, FrictionState};
-use super::kinematics::{geometry, Branches, ConnectionType, Node, Role, Singular};
+use super::kinematics::{geometry_into, Branches, ConnectionType, Geometry, Node, Role, Singular};
 use super::math::{Real, Vec3};
 
 /// A penalty pair: translational and rotational stiffness and damping.
@@ -253,17 +253,40 @@ pub fn evaluate(
     b: &Node,
     mode: Eval,
 ) -> Result<(Outputs, State), Singular> {
-    let roles = ct.roles();
-    let g = geometry(ct, a, b, &st.branches)?;
-    let mut next = *st;
-    next.branches = g.branches;
     let mut o = Outputs::default();
+    let mut next = *st;
+    evaluate_into(ct, p, st, a, b, mode, (&mut o, &mut next))?;
+    Ok((o, next))
+}
+
+/// `evaluate` writing the outputs and the next state in place (the per-step path, where the
+/// outputs go straight into the instance's cache instead of being copied there).
+///
+/// Every field of `o` and `next` is overwritten; on an error their contents are unspecified.
+pub fn evaluate_into(
+    ct: ConnectionType,
+    p: &Params,
+    st: &State,
+    a: &Node,
+    b: &Node,
+    mode: Eval,
+    (o, next): (&mut Outputs, &mut State),
+) -> Result<(), Singular> {
+    let roles = ct.roles();
+    let mut g = Geometry::ZERO;
+    geometry_into(ct, a, b, &st.branches, &mut g)?;
+    *next = *st;
+    next.branches = g.branches;
+    // Every output is written below, from zero where it accumulates (writing the struct
+    // as a whole first would cost a memset of all of it on every evaluation).
     let mut stored = 0.0;
     let mut p_damp = 0.0;
     let mut p_stop = 0.0;
 
     for (k, role) in roles.iter().enumerate() {
         if *role == Role::Absent {
+            (o.cp[k], o.cu[k], o.cv[k]) = (0.0, 0.0, 0.0);
+            (o.cef[k], o.cvf[k], o.crf[k], o.cslst[k]) = (0.0, 0.0, 0.0, 0);
             continue;
         }
         let c = g.pos[k];
@@ -277,6 +300,7 @@ pub fn evaluate(
                 let target = if k == 0 { st.c0[0] } else { 0.0 };
                 let (kp, cp) = p.constraint.for_slot(k);
                 let gap = c - target;
+                (o.cef[k], o.cvf[k], o.cslst[k]) = (0.0, 0.0, 0);
                 o.crf[k] = kp * gap + cp * v;
                 stored += 0.5 * kp * gap * gap;
                 p_damp += cp * v * v;
@@ -296,7 +320,9 @@ pub fn evaluate(
                 let (ks, cs) = p.stop.for_slot(k);
                 let (force, status, energy, power) =
                     stop_force(c, v, p.stop_lower[k], p.stop_upper[k], ks, cs);
-                o.crf[k] += force;
+                // 0 + force, as when the reaction accumulated from zero: a stop force of −0
+                // reads +0
+                o.crf[k] = 0.0 + force;
                 o.cslst[k] = status as i32;
                 next.stop_status[k] = status;
                 stored += energy;
@@ -308,6 +334,8 @@ pub fn evaluate(
 
     // PLANAR friction: normal force and moment from the constraint reactions f1, m2, m3
     // (F_NC and M_NR1 are reported even when μ = 0 turns the friction force off)
+    o.csf = [0.0; 6];
+    o.friction = FrictionOut::default();
     if ct.rot == super::kinematics::Rotational::Revolute {
         let fr = friction::update(
             &p.friction,
@@ -329,6 +357,7 @@ pub fn evaluate(
         o.ctf[k] = o.cef[k] + o.cvf[k] + o.csf[k] + o.crf[k];
     }
     // node loads by virtual work: −Σ F_k ∇c_k
+    (o.fa, o.ma, o.fb, o.mb) = (Vec3::zeros(), Vec3::zeros(), Vec3::zeros(), Vec3::zeros());
     for k in 0..6 {
         let f = o.ctf[k];
         if f != 0.0 {
@@ -345,7 +374,7 @@ pub fn evaluate(
         friction: next.friction.dissipated,
         ..st.dissipated
     };
-    Ok((o, next))
+    Ok(())
 }
 
 /// One-sided stop penalty on position `c` with rate `v`: (force, status, energy, power).

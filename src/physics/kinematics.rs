@@ -7,10 +7,7 @@
 //! velocities and node loads (virtual work) both follow from these gradients, so the loads
 //! are exactly in equilibrium and a purely elastic connector is exactly conservative.
 
-use super::math::{
-    continue_branch, exp_so3, one_minus_cos_over_sq, rot_z, sinc, x_over_sin, Mat3, Quat, Real,
-    Vec3,
-};
+use super::math::{continue_branch, exp_so3, rot_z, x_over_sin, Mat3, Quat, Real, SinCos, Vec3};
 
 /// Pose and twist of one node, all in W.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -139,14 +136,19 @@ pub struct Grad {
     pub tb: Vec3,
 }
 
+impl Grad {
+    /// A component that does not depend on the node motions.
+    pub const ZERO: Grad = Grad {
+        xa: Vec3::new(0.0, 0.0, 0.0),
+        ta: Vec3::new(0.0, 0.0, 0.0),
+        xb: Vec3::new(0.0, 0.0, 0.0),
+        tb: Vec3::new(0.0, 0.0, 0.0),
+    };
+}
+
 impl Default for Grad {
     fn default() -> Self {
-        Grad {
-            xa: Vec3::zeros(),
-            ta: Vec3::zeros(),
-            xb: Vec3::zeros(),
-            tb: Vec3::zeros(),
-        }
+        Grad::ZERO
     }
 }
 
@@ -189,9 +191,39 @@ pub const ALPHA_MAX_GAP: Real = 1e-3;
 /// Total flexion α = ∠(e3a, e3b) of two orientations.
 #[inline]
 pub fn flexion(qa: &Quat, qb: &Quat) -> Real {
-    let e3a = qa * Vec3::z();
-    let e3b = qb * Vec3::z();
-    e3a.cross(&e3b).norm().atan2(e3a.dot(&e3b))
+    Shafts::of(qa, qb).flexion()
+}
+
+/// The shaft axes e3a, e3b of two orientations: their flexion α, or only cos α (no atan2).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shafts {
+    /// e3a (W).
+    pub e3a: Vec3,
+    /// e3b (W).
+    pub e3b: Vec3,
+}
+
+impl Shafts {
+    /// The shaft axes of orientations a and b.
+    #[inline]
+    pub fn of(qa: &Quat, qb: &Quat) -> Shafts {
+        Shafts {
+            e3a: qa * Vec3::z(),
+            e3b: qb * Vec3::z(),
+        }
+    }
+
+    /// cos α = e3a·e3b.
+    #[inline]
+    pub fn cos_flexion(&self) -> Real {
+        self.e3a.dot(&self.e3b)
+    }
+
+    /// The total flexion α = atan2(|e3a × e3b|, e3a·e3b) ∈ [0, π].
+    #[inline]
+    pub fn flexion(&self) -> Real {
+        self.e3a.cross(&self.e3b).norm().atan2(self.cos_flexion())
+    }
 }
 
 /// A configuration the kinematics cannot measure.
@@ -216,6 +248,20 @@ pub struct Geometry {
     pub triad: Mat3,
     /// Updated branches (committed by the caller only when the step is accepted).
     pub branches: Branches,
+}
+
+impl Geometry {
+    /// All zero, frames the identity: a value to evaluate into (`geometry_into`).
+    pub const ZERO: Geometry = Geometry {
+        pos: [0.0; 6],
+        grad: [Grad::ZERO; 6],
+        triad: Mat3::new(1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0),
+        branches: Branches {
+            beta: 0.0,
+            alpha: 0.0,
+            e_r_local: Vec3::new(1.0, 0.0, 0.0),
+        },
+    };
 }
 
 /// The centred projection triad of SPEC §4 with the flexion–torsion angles and Jacobians.
@@ -266,8 +312,8 @@ pub fn centred(ra: &Mat3, rb: &Mat3, beta_prev: Real) -> Result<Centred, Singula
 
     // Jacobian ∂Θ/∂θ_b = M⁻¹ R_cᵀ with M = Jb − Ja (triad coordinates):
     // in-plane block (θ/sin θ)(I − q̂q̂ᵀ) + q̂q̂ᵀ, torsion 1/cos θ, θ = α/2.
-    let th = 0.5 * alpha;
-    let a_s = x_over_sin(th);
+    let th = SinCos::of(0.5 * alpha);
+    let a_s = th.x_over_sin();
     // (1 − a_s)/α², smooth: a_s ≈ 1 + α²/24 → −1/24
     let coef = if alpha < 1e-4 {
         -1.0 / 24.0
@@ -283,12 +329,12 @@ pub fn centred(ra: &Mat3, rb: &Mat3, beta_prev: Real) -> Result<Centred, Singula
         0.0,
         0.0,
         0.0,
-        1.0 / th.cos(),
+        1.0 / th.cos,
     );
     let k = m_inv * triad.transpose();
     // Triad variation δψ = ½(δθ_a + δθ_b) − R_c·N·δΘ with N = ½(Ja + Jb):
-    let h1 = one_minus_cos_over_sq(th);
-    let h2 = sinc(th);
+    let h1 = th.one_minus_cos_over_sq();
+    let h2 = th.sinc();
     let n = Mat3::new(
         0.0,
         0.0,
@@ -322,15 +368,30 @@ pub fn geometry(
     b: &Node,
     prev: &Branches,
 ) -> Result<Geometry, Singular> {
+    let mut g = Geometry::ZERO;
+    geometry_into(ct, a, b, prev, &mut g)?;
+    Ok(g)
+}
+
+/// `geometry` written into `g` (no copy of the result on the per-step path).
+///
+/// Every field of `g` is overwritten; on an error its contents are unspecified.
+#[inline]
+pub fn geometry_into(
+    ct: ConnectionType,
+    a: &Node,
+    b: &Node,
+    prev: &Branches,
+    g: &mut Geometry,
+) -> Result<(), Singular> {
     let ra = *a.q.to_rotation_matrix().matrix();
     let rb = *b.q.to_rotation_matrix().matrix();
     let d = b.r - a.r;
-    let mut g = Geometry {
-        pos: [0.0; 6],
-        grad: [Grad::default(); 6],
-        triad: ra,
-        branches: *prev,
-    };
+    // field by field: a struct literal would be built aside and copied
+    g.pos = [0.0; 6];
+    g.grad = [Grad::ZERO; 6];
+    g.triad = ra;
+    g.branches = *prev;
 
     // Local directions and, for the centred triad, the rotational components.
     let mut tri_a = Mat3::identity(); // ∂ψ/∂θ_a
@@ -444,7 +505,7 @@ pub fn geometry(
     }
 
     if g.pos.iter().all(|p| p.is_finite()) {
-        Ok(g)
+        Ok(())
     } else {
         Err(Singular::NotFinite)
     }

@@ -17,6 +17,21 @@ pub fn exp_so3(phi: &Vec3) -> Mat3 {
     Rotation3::from_scaled_axis(*phi).into_inner()
 }
 
+/// Unit quaternion of the rotation vector `phi` (exponential map): the same value, bit for
+/// bit, as nalgebra's `UnitQuaternion::from_scaled_axis` (identity below |φ/2|² ≤ ε², else
+/// (cos|φ/2|, sin|φ/2|·(φ/2)/|φ/2|)), without its exp(0) = 1 of the zero scalar part.
+#[inline]
+pub fn quat_exp(phi: &Vec3) -> Quat {
+    let v = phi / 2.0;
+    let nn = v.norm_squared();
+    if nn <= Real::EPSILON * Real::EPSILON {
+        return Quat::identity();
+    }
+    let n = nn.sqrt();
+    let (sin, cos) = n.sin_cos();
+    UnitQuaternion::new_unchecked(nalgebra::Quaternion::from_parts(cos, v * (sin / n)))
+}
+
 /// Rotation about the local 3-axis by `angle` (radians).
 #[inline]
 pub fn rot_z(angle: Real) -> Mat3 {
@@ -78,6 +93,60 @@ pub fn one_minus_cos_over_sq(x: Real) -> Real {
     }
 }
 
+/// An angle with its sine and cosine, for several of the smooth ratios of one angle at the
+/// cost of one sin_cos: the formulas of the free functions, so the same values bit for bit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SinCos {
+    /// The angle x (rad).
+    pub x: Real,
+    /// sin x.
+    pub sin: Real,
+    /// cos x.
+    pub cos: Real,
+}
+
+impl SinCos {
+    /// x with sin x and cos x.
+    #[inline]
+    pub fn of(x: Real) -> SinCos {
+        let (sin, cos) = x.sin_cos();
+        SinCos { x, sin, cos }
+    }
+
+    /// `x / sin x`, smooth through 0 (series below 1e-4, where the error is below 1e-17).
+    #[inline]
+    pub fn x_over_sin(&self) -> Real {
+        let x = self.x;
+        if x.abs() < 1e-4 {
+            1.0 + x * x / 6.0
+        } else {
+            x / self.sin
+        }
+    }
+
+    /// `sin x / x`, smooth through 0.
+    #[inline]
+    pub fn sinc(&self) -> Real {
+        let x = self.x;
+        if x.abs() < 1e-4 {
+            1.0 - x * x / 6.0
+        } else {
+            self.sin / x
+        }
+    }
+
+    /// `(1 − cos x) / x²`, smooth through 0.
+    #[inline]
+    pub fn one_minus_cos_over_sq(&self) -> Real {
+        let x = self.x;
+        if x.abs() < 1e-4 {
+            0.5 - x * x / 24.0
+        } else {
+            (1.0 - self.cos) / (x * x)
+        }
+    }
+}
+
 /// Unit quaternion from scalar-first components, normalised.
 ///
 /// Returns `None` when a component is not finite or the norm is below 1e-6
@@ -117,6 +186,37 @@ mod tests {
             assert!((x_over_sin(x) - x / x.sin()).abs() < 1e-15);
             assert!((sinc(x) - x.sin() / x).abs() < 1e-15);
             assert!((one_minus_cos_over_sq(x) - 0.5).abs() < 1e-8);
+        }
+    }
+
+    #[test]
+    fn sin_cos_ratios_are_the_free_functions() {
+        for x in [0.0, 1e-9, 0.99e-4, 1e-4, 1.01e-4, 0.3, 1.2, -0.7, 2.9] {
+            let t = SinCos::of(x);
+            assert_eq!(t.x_over_sin().to_bits(), x_over_sin(x).to_bits());
+            assert_eq!(t.sinc().to_bits(), sinc(x).to_bits());
+            assert_eq!(
+                t.one_minus_cos_over_sq().to_bits(),
+                one_minus_cos_over_sq(x).to_bits()
+            );
+            assert_eq!(t.cos.to_bits(), x.cos().to_bits());
+        }
+    }
+
+    #[test]
+    fn quaternion_exp_is_nalgebras() {
+        for phi in [
+            Vec3::zeros(),
+            Vec3::new(1e-17, 0.0, -1e-17),
+            Vec3::new(1e-3, -2e-4, 5e-4),
+            Vec3::new(0.3, 1.1, -0.4),
+            Vec3::new(-3.0, 2.0, 7.0),
+        ] {
+            let (a, b) = (quat_exp(&phi), Quat::from_scaled_axis(phi));
+            let (a, b) = (a.quaternion().coords, b.quaternion().coords);
+            for i in 0..4 {
+                assert_eq!(a[i].to_bits(), b[i].to_bits(), "{phi:?}");
+            }
         }
     }
 

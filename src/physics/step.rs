@@ -2,10 +2,10 @@
 //! along the input extrapolation, the path-dependent state (friction, stops, angle branches)
 //! follows in internal substeps, and the dissipated energies are integrated.
 
-use super::connector::{evaluate, Outputs, Params, State};
+use super::connector::{evaluate_into, Outputs, Params, State};
 use super::friction::Eval;
-use super::kinematics::{flexion, ConnectionType, Node, Singular, ALPHA_MAX_GAP};
-use super::math::{Quat, Real, Vec3};
+use super::kinematics::{ConnectionType, Node, Shafts, Singular, ALPHA_MAX_GAP};
+use super::math::{quat_exp, Real, Vec3};
 use std::f64::consts::PI;
 
 /// Rates along which a node is extrapolated over a step (all in W).
@@ -46,7 +46,7 @@ impl Rates {
 pub fn extrapolate(n: &Node, rate: &Rates, tau: Real) -> Node {
     Node {
         r: n.r + rate.dr * tau,
-        q: Quat::from_scaled_axis(rate.dth * tau) * n.q,
+        q: quat_exp(&(rate.dth * tau)) * n.q,
         v: n.v + rate.dv * tau,
         w: n.w + rate.dw * tau,
     }
@@ -55,6 +55,9 @@ pub fn extrapolate(n: &Node, rate: &Rates, tau: Real) -> Node {
 /// Largest relative rotation per substep (rad): keeps angle branches and turning slip paths
 /// resolved.
 pub const MAX_ROTATION_PER_SUBSTEP: Real = 0.25;
+/// Turn of a substep (rad) below which the path guard needs no flexion angles when both ends
+/// have α ≤ π/2: the room 2(π − gap) − α_prev − α is then at least π − 2·gap − round-off.
+const CLEAR_TURN: Real = 3.0;
 /// Most substeps one communication step may take.
 pub const MAX_SUBSTEPS: u32 = 100_000;
 
@@ -107,10 +110,39 @@ pub fn advance(
     (b0, rb): (&Node, &Rates),
     h: Real,
 ) -> Result<Advanced, StepError> {
+    let mut outputs = Outputs::default();
+    let mut state = *st;
+    let (a, b) = advance_into(ct, p, st, (a0, ra), (b0, rb), h, (&mut outputs, &mut state))?;
+    Ok(Advanced {
+        outputs,
+        state,
+        a,
+        b,
+    })
+}
+
+/// `advance` writing the outputs and the state at t + h in place (the per-step path: the
+/// outputs go straight into the instance's cache); returns the nodes at t + h.
+///
+/// On error the contents of `o` and `next` are unspecified and `st` is untouched.
+#[inline]
+pub fn advance_into(
+    ct: ConnectionType,
+    p: &Params,
+    st: &State,
+    (a0, ra): (&Node, &Rates),
+    (b0, rb): (&Node, &Rates),
+    h: Real,
+    (o, next): (&mut Outputs, &mut State),
+) -> Result<(Node, Node), StepError> {
     let n = substeps(p, ra, rb, h)?;
     let dt = h / n as Real;
-    let mut s = *st;
-    let mut alpha_prev = flexion(&a0.q, &b0.q);
+    // the state the substep starts from: `st`, then a copy of the last substep's end
+    let mut prev: Option<State> = None;
+    // path guard of centred types (below): the shafts at the start of the substep, and the
+    // bound on the relative angular velocity, |ω_b − ω_a| + |ω̇_b − ω̇_a|·τ
+    let mut shafts_prev = Shafts::of(&a0.q, &b0.q);
+    let (w_rel0, w_rel1) = ((rb.dth - ra.dth).norm(), (rb.dw - ra.dw).norm());
     for j in 1..=n {
         // time as t0 + j·dt, never accumulated
         let tau = h * j as Real / n as Real;
@@ -120,36 +152,38 @@ pub fn advance(
             // α changes no faster than the relative angular velocity, so a substep whose ends
             // are both regular can still pass through the folded configuration between them:
             // refuse when the two ends are not far enough from π − gap for that to be ruled out.
-            let alpha = flexion(&a.q, &b.q);
-            let w_rel = (rb.dth - ra.dth).norm() + (rb.dw - ra.dw).norm() * tau;
-            let room = 2.0 * (PI - ALPHA_MAX_GAP) - alpha_prev - alpha;
-            if room < w_rel * dt {
-                return Err(StepError::Singular(
-                    Singular::FlexionNearPi(alpha.max(alpha_prev)),
-                    tau,
-                ));
+            let shafts = Shafts::of(&a.q, &b.q);
+            let turn = (w_rel0 + w_rel1 * tau) * dt;
+            // Both ends at α ≤ π/2 (cos α > 0) leave room ≥ π − 2·gap, more than CLEAR_TURN:
+            // the test would pass, so its two atan2 are skipped.
+            let clear =
+                shafts_prev.cos_flexion() > 0.0 && shafts.cos_flexion() > 0.0 && turn < CLEAR_TURN;
+            if !clear {
+                let (alpha_prev, alpha) = (shafts_prev.flexion(), shafts.flexion());
+                let room = 2.0 * (PI - ALPHA_MAX_GAP) - alpha_prev - alpha;
+                if room < turn {
+                    return Err(StepError::Singular(
+                        Singular::FlexionNearPi(alpha.max(alpha_prev)),
+                        tau,
+                    ));
+                }
             }
-            alpha_prev = alpha;
+            shafts_prev = shafts;
         }
-        let (mut o, mut next) =
-            evaluate(ct, p, &s, &a, &b, Eval::Step(dt)).map_err(|e| StepError::Singular(e, tau))?;
+        let s: &State = if j == 1 { st } else { prev.insert(*next) };
+        evaluate_into(ct, p, s, &a, &b, Eval::Step(dt), (&mut *o, &mut *next))
+            .map_err(|e| StepError::Singular(e, tau))?;
         // trapezoidal rule on the dissipation powers
         next.dissipated.damping += 0.5 * (s.power[0] + next.power[0]) * dt;
         next.dissipated.stops += 0.5 * (s.power[1] + next.power[1]) * dt;
         o.energy.damping = next.dissipated.damping;
         o.energy.stops = next.dissipated.stops;
-        if !outputs_finite(&o) {
+        if !outputs_finite(o) {
             return Err(StepError::NotFinite(tau));
         }
         if j == n {
-            return Ok(Advanced {
-                outputs: o,
-                state: next,
-                a,
-                b,
-            });
+            return Ok((a, b));
         }
-        s = next;
     }
     // n ≥ 1, so the loop returned
     Err(StepError::NotFinite(0.0))
@@ -157,17 +191,29 @@ pub fn advance(
 
 /// Whether every Real output is finite (NaN never reaches an output).
 pub fn outputs_finite(o: &Outputs) -> bool {
-    let arrays = [o.cp, o.cu, o.cv, o.cef, o.cvf, o.csf, o.crf, o.ctf];
+    // x·0 is ±0 for a finite x and NaN for ±∞ and NaN, so a sum of such terms is 0 exactly when
+    // every x is finite; summed lane by lane (no early exit), which the compiler vectorises
     let f = &o.friction;
     let e = &o.energy;
-    arrays.iter().all(|a| a.iter().all(|x| x.is_finite()))
-        && [o.fa, o.ma, o.fb, o.mb]
-            .iter()
-            .all(|v| v.iter().all(|x| x.is_finite()))
-        && [f.cnf, f.cnm1, f.csfc, f.csmc1, f.slip, f.slip_r1]
-            .iter()
-            .all(|x| x.is_finite())
-        && [e.stored, e.damping, e.friction, e.stops]
-            .iter()
-            .all(|x| x.is_finite())
+    let arrays = [
+        &o.cp,
+        &o.cu,
+        &o.cv,
+        &o.cef,
+        &o.cvf,
+        &o.csf,
+        &o.crf,
+        &o.ctf,
+        &[o.fa.x, o.fa.y, o.fa.z, o.ma.x, o.ma.y, o.ma.z],
+        &[o.fb.x, o.fb.y, o.fb.z, o.mb.x, o.mb.y, o.mb.z],
+        &[f.cnf, f.cnm1, f.csfc, f.csmc1, f.slip, f.slip_r1],
+        &[e.stored, e.damping, e.friction, e.stops, 0.0, 0.0],
+    ];
+    let mut lanes = [0.0; 6];
+    for a in arrays {
+        for (l, x) in lanes.iter_mut().zip(a) {
+            *l += x * 0.0;
+        }
+    }
+    lanes.iter().sum::<Real>() == 0.0
 }
