@@ -131,7 +131,7 @@ pub struct ModelInstance {
     /// The variant's variable table.
     pub table: &'static Table,
     /// The same table as what fmi2SetReal / fmi2GetReal do with each VR.
-    real_slots: &'static [RealSlot],
+    real: &'static RealTables,
     ct: ConnectionType,
     name: String,
     logger: Box<dyn LogSink>,
@@ -175,7 +175,7 @@ impl ModelInstance {
         let table = table(variant);
         ModelInstance {
             table,
-            real_slots: real_slots(table),
+            real: real_tables(table),
             ct: table.spec.connection,
             name: name.to_string(),
             logger,
@@ -375,6 +375,7 @@ impl ModelInstance {
     }
 
     /// Applies a batch of sets to a copy and commits only when every value is accepted.
+    #[inline(never)]
     fn set_batch<T: Copy>(
         &mut self,
         vrs: &[u32],
@@ -429,21 +430,31 @@ impl ModelInstance {
     /// fmi2SetReal.
     pub fn set_real(&mut self, vrs: &[u32], values: &[Real]) -> FmuResult<()> {
         const F: &str = "fmi2SetReal";
-        // The per-step path: finite values of node inputs only, written into a copy of the
-        // inputs that is committed when all are in (all or nothing); anything else, including
-        // every error, goes through the general batch, which names the culprit.
+        // The per-step path: finite values of node inputs only, checked all before any is
+        // written (all or nothing); anything else, including every error, goes through the
+        // general batch, which names the culprit.
         self.allowed(Call::Set, F)?;
-        let mut inputs = self.s.inputs;
+        // One pass writing in place; the first value that is not for this path puts the
+        // inputs back as they were and hands the whole call to the general batch.
+        let index = &*self.real.input_index;
+        let before = self.s.inputs;
+        let flat = self.s.inputs.as_flattened_mut();
+        let mut changed = false;
         for (&vr, &x) in vrs.iter().zip(values) {
-            match self.real_slots.get(vr as usize) {
-                Some(&RealSlot::Input(j)) if x.is_finite() => {
-                    inputs.as_flattened_mut()[j as usize] = x;
+            let j = index.get(vr as usize).copied().unwrap_or(NO_INDEX);
+            match flat.get_mut(j as usize) {
+                Some(u) if x.is_finite() => {
+                    // bits: ±0 counts as a change (it is one for the outputs)
+                    changed |= u.to_bits() != x.to_bits();
+                    *u = x;
                 }
-                _ => return self.set_batch(vrs, values, Ty::Real, F, write_real),
+                _ => {
+                    self.s.inputs = before;
+                    return self.set_batch(vrs, values, Ty::Real, F, write_real);
+                }
             }
         }
-        if differ(&inputs, &self.s.inputs) {
-            self.s.inputs = inputs;
+        if changed {
             self.cache.clear();
         }
         Ok(())
@@ -552,12 +563,25 @@ impl ModelInstance {
     /// fmi2GetReal.
     pub fn get_real(&mut self, vrs: &[u32], out: &mut [Real]) -> FmuResult<()> {
         const F: &str = "fmi2GetReal";
-        // The per-step path: every VR a Real variable (else the general get names the culprit),
-        // checked before anything is written, then read through the slot table.
+        // The per-step path: node loads only (the usual read after a step), then every VR a
+        // Real variable (else the general get names the culprit); all are checked before
+        // anything is written, then read through the slot tables.
         self.allowed(Call::Get, F)?;
+        let index = &*self.real.load_index;
+        let load = |vr: u32| index.get(vr as usize).copied().unwrap_or(NO_INDEX);
+        if vrs.iter().all(|&vr| load(vr) != NO_INDEX) {
+            let o = self.outputs(F)?;
+            let loads = node_loads(o);
+            for (&vr, slot) in vrs.iter().zip(out.iter_mut()) {
+                if let Some(&l) = loads.get(load(vr) as usize) {
+                    *slot = l;
+                }
+            }
+            return Ok(());
+        }
         let mut any_output = false;
         for &vr in vrs {
-            match self.real_slots.get(vr as usize) {
+            match self.real.slots.get(vr as usize) {
                 Some(RealSlot::Load(_) | RealSlot::Output(_)) => any_output = true,
                 Some(RealSlot::Input(_) | RealSlot::Param(_)) => {}
                 _ => return self.get_real_general(vrs, out),
@@ -566,17 +590,11 @@ impl ModelInstance {
         if any_output {
             self.outputs(F)?;
         }
-        let (o, loads) = if let Some(o) = self.cache.get() {
-            // the node loads side by side, indexed by RealSlot::Load
-            let (fa, ma, fb, mb) = (o.fa, o.ma, o.fb, o.mb);
-            let loads = [
-                fa.x, fa.y, fa.z, ma.x, ma.y, ma.z, fb.x, fb.y, fb.z, mb.x, mb.y, mb.z,
-            ];
-            (Some(o), loads)
-        } else {
-            (None, [0.0; 12])
+        let (o, loads) = match self.cache.get() {
+            Some(o) => (Some(o), node_loads(o)),
+            None => (None, [0.0; 12]),
         };
-        let (slots, s) = (self.real_slots, &self.s);
+        let (slots, s) = (&self.real.slots, &self.s);
         for (&vr, slot) in vrs.iter().zip(out.iter_mut()) {
             *slot = match (slots[vr as usize], o) {
                 (RealSlot::Input(j), _) => s.inputs.as_flattened()[j as usize],
@@ -967,16 +985,28 @@ enum RealSlot {
     Param(Field),
 }
 
-/// The Real slots of a variant's table, by VR.
-fn real_slots(t: &'static Table) -> &'static [RealSlot] {
-    static SLOTS: [OnceLock<Box<[RealSlot]>>; 5] = [
+/// No fast index for this VR (see `RealTables`).
+const NO_INDEX: u8 = u8::MAX;
+
+/// The Real slots of a variant's table by VR, and two compact views of them for the per-step
+/// calls: VR → the flat index of a node input (fmi2SetReal) and VR → the index of a node load
+/// (fmi2GetReal), `NO_INDEX` for every other VR.
+struct RealTables {
+    slots: Box<[RealSlot]>,
+    input_index: Box<[u8]>,
+    load_index: Box<[u8]>,
+}
+
+/// The Real tables of a variant (built once per variant).
+fn real_tables(t: &'static Table) -> &'static RealTables {
+    static TABLES: [OnceLock<RealTables>; 5] = [
         OnceLock::new(),
         OnceLock::new(),
         OnceLock::new(),
         OnceLock::new(),
         OnceLock::new(),
     ];
-    SLOTS[t.spec.variant as usize].get_or_init(|| {
+    TABLES[t.spec.variant as usize].get_or_init(|| {
         let n = t.vars.iter().map(|v| v.vr as usize + 1).max().unwrap_or(0);
         let mut slots = vec![RealSlot::None; n];
         for v in &t.vars {
@@ -990,7 +1020,20 @@ fn real_slots(t: &'static Table) -> &'static [RealSlot] {
                 (f, _) => RealSlot::Param(f),
             };
         }
-        slots.into_boxed_slice()
+        let index = |pick: fn(RealSlot) -> Option<u8>| -> Box<[u8]> {
+            slots.iter().map(|&s| pick(s).unwrap_or(NO_INDEX)).collect()
+        };
+        RealTables {
+            input_index: index(|s| match s {
+                RealSlot::Input(j) => Some(j),
+                _ => None,
+            }),
+            load_index: index(|s| match s {
+                RealSlot::Load(j) => Some(j),
+                _ => None,
+            }),
+            slots: slots.into_boxed_slice(),
+        }
     })
 }
 
@@ -1007,12 +1050,13 @@ fn var_error(vr: u32, found: Option<&VarSpec>, want: Ty, fname: &str) -> FmuErro
     }
 }
 
-/// `a != b` for node inputs (the same value, NaN included: x != y is !(x == y) element by
-/// element), compared all at once without early exit, which the compiler vectorises.
+/// The node loads side by side, indexed by `RealSlot::Load`: fa, ma, fb, mb.
 #[inline]
-fn differ(a: &[NodeInputs; 2], b: &[NodeInputs; 2]) -> bool {
-    let (a, b) = (a.as_flattened(), b.as_flattened());
-    a.iter().zip(b).fold(false, |d, (x, y)| d | (x != y))
+fn node_loads(o: &Outputs) -> [Real; 12] {
+    let (fa, ma, fb, mb) = (o.fa, o.ma, o.fb, o.mb);
+    [
+        fa.x, fa.y, fa.z, ma.x, ma.y, ma.z, fb.x, fb.y, fb.z, mb.x, mb.y, mb.z,
+    ]
 }
 
 /// Writes an extrapolated node back into the inputs.

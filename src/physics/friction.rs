@@ -4,7 +4,7 @@
 //! a uniformly loaded disc (Contensou; `disc`).
 
 use super::disc::disc_law;
-use super::math::Real;
+use super::math::{norm2, Real};
 use std::f64::consts::FRAC_PI_2;
 
 /// What an evaluation of the connector is for.
@@ -116,6 +116,10 @@ impl FrictionParams {
         if self.decay == 0.0 {
             return self.mu_static;
         }
+        if rate == 0.0 {
+            // exp(−0) = 1 without calling exp (every step of a sticking contact)
+            return self.mu_kinetic + (self.mu_static - self.mu_kinetic);
+        }
         self.mu_kinetic + (self.mu_static - self.mu_kinetic) * (-self.decay * rate).exp()
     }
 }
@@ -198,7 +202,7 @@ pub struct FrictionResult {
 /// F_NC and M_NR1 from the constraint reactions f1, m2, m3 (seed page 631–632).
 #[inline]
 pub fn normal_loads(p: &FrictionParams, f1: Real, m2: Real, m3: Real) -> (Real, Real) {
-    let m_bend = m2.hypot(m3);
+    let m_bend = norm2(m2, m3);
     let f1 = f1.abs();
     // "If R is 0.0, M_bend is ignored" (F_C) and "M_1 is ignored" (M_R1)
     let (f_c, m_1) = if p.radius > 0.0 {
@@ -290,7 +294,7 @@ pub fn update(
     } else {
         1.0
     };
-    let slide = rate[0].hypot(rate[1]);
+    let slide = norm2(rate[0], rate[1]);
     let spin = rho * rate[2].abs();
     let speed_for = |status: Status, v: Real, committed: Real| match (stepping, status) {
         (true, Status::Slip) => v,
@@ -300,7 +304,7 @@ pub fn update(
 
     let (f, m) = if p.coupling == 1 {
         // ellipsoidal limit surface |(f2, f3, m1/ρ)| ≤ μ F_NC, the disc's flow rule
-        let v = speed_for(st.status, slide.hypot(spin), st.mu_rate[0]);
+        let v = speed_for(st.status, norm2(slide, spin), st.mu_rate[0]);
         next.mu_rate = [v, v];
         let limit = (p.mu(v) * f_nc).min(p.max_force);
         let norm = (f_tr[0] * f_tr[0] + f_tr[1] * f_tr[1] + (m_tr / rho) * (m_tr / rho)).sqrt();
@@ -310,7 +314,7 @@ pub fn update(
         if scale == 1.0 {
             (f_tr, m_tr)
         } else {
-            let f_abs = f_tr[0].hypot(f_tr[1]);
+            let f_abs = norm2(f_tr[0], f_tr[1]);
             let (f, m) = disc_flow_return(p.radius, rho, k_ret, f_abs, m_tr.abs(), limit);
             let a = if f_abs > 0.0 { f / f_abs } else { 0.0 };
             ([f_tr[0] * a, f_tr[1] * a], m.copysign(m_tr))
@@ -321,7 +325,7 @@ pub fn update(
         let v_r = speed_for(st.status_r1, spin, st.mu_rate[1]);
         next.mu_rate = [v, v_r];
         let limit = (p.mu(v) * f_nc).min(p.max_force);
-        let (scale, status) = return_status(f_tr[0].hypot(f_tr[1]), limit, f_nc, on_limit(0));
+        let (scale, status) = return_status(norm2(f_tr[0], f_tr[1]), limit, f_nc, on_limit(0));
         let (scale_r, status_r) = return_status(m_tr.abs(), p.mu(v_r) * m_nr1, m_nr1, on_limit(1));
         next.status = status;
         next.status_r1 = status_r;
@@ -333,7 +337,7 @@ pub fn update(
     next.slip_plastic[0] += ds[0];
     next.slip_plastic[1] += ds[1];
     next.slip_plastic_r1 += ds_r;
-    next.slip_acc += ds[0].hypot(ds[1]);
+    next.slip_acc += norm2(ds[0], ds[1]);
     next.slip_acc_r1 += ds_r.abs();
     if stepping {
         next.slip_rate = [ds[0] / h, ds[1] / h, ds_r / h];
@@ -346,12 +350,12 @@ pub fn update(
     next.dissipated += dissipation(p, st, &force, [ds[0], ds[1], ds_r], e1);
     next.force = force;
     next.elastic = e1;
-    let csfc = force[0].hypot(force[1]);
+    let csfc = norm2(force[0], force[1]);
     FrictionResult {
         force,
         out: outputs(&next, f_nc, m_nr1, csfc, force[2].abs()),
         stored: 0.5
-            * (spring[0].hypot(spring[1]).powi(2) / p.k_stick
+            * ((spring[0] * spring[0] + spring[1] * spring[1]) / p.k_stick
                 + spring[2] * spring[2] / p.k_stick_r1),
         state: next,
     }
@@ -424,7 +428,7 @@ fn disc_flow_return(
         let (s, c) = chi.sin_cos();
         let (f_hat, m_hat) = disc_law(c.max(0.0), s.max(0.0));
         let (x, y) = (f_hat, r * m_hat / rho);
-        let n = x.hypot(y);
+        let n = norm2(x, y);
         (limit * x / n, rho * limit * y / n, s, c)
     };
     let h = |chi: Real| {

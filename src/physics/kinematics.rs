@@ -7,7 +7,7 @@
 //! velocities and node loads (virtual work) both follow from these gradients, so the loads
 //! are exactly in equilibrium and a purely elastic connector is exactly conservative.
 
-use super::math::{continue_branch, exp_so3, rot_z, x_over_sin, Mat3, Quat, Real, SinCos, Vec3};
+use super::math::{continue_branch, norm2, rot_z, Mat3, Quat, Real, SinCos, Vec3};
 
 /// Pose and twist of one node, all in W.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -299,9 +299,16 @@ pub fn centred(ra: &Mat3, rb: &Mat3, beta_prev: Real) -> Result<Centred, Singula
     if alpha > std::f64::consts::PI - ALPHA_MAX_GAP {
         return Err(Singular::FlexionNearPi(alpha));
     }
-    let phi = w * x_over_sin(alpha);
-    // 2. frame a rotated by +α/2 about q: its third axis is the bisector e3
-    let ra_half = exp_so3(&(phi * 0.5)) * ra;
+    // s = |e3a × e3b| is sin α, so α/sin α needs no sine of its own
+    let phi = w * if alpha < 1e-4 {
+        1.0 + alpha * alpha / 6.0
+    } else {
+        alpha / s
+    };
+    // 2. frame a rotated by +α/2 about q: its third axis is the bisector e3 (Rodrigues, with
+    //    the sine and cosine of α/2 that the Jacobians below need too)
+    let th = SinCos::of(0.5 * alpha);
+    let ra_half = rotate_about(&w, s, &th, ra);
     // 3. torsion β (seed formula on the original frames), continued from the previous value
     let beta_raw = (e2a.dot(&e1b) - e1a.dot(&e2b)).atan2(e1a.dot(&e1b) + e2a.dot(&e2b));
     let beta = continue_branch(beta_raw, beta_prev);
@@ -312,7 +319,6 @@ pub fn centred(ra: &Mat3, rb: &Mat3, beta_prev: Real) -> Result<Centred, Singula
 
     // Jacobian ∂Θ/∂θ_b = M⁻¹ R_cᵀ with M = Jb − Ja (triad coordinates):
     // in-plane block (θ/sin θ)(I − q̂q̂ᵀ) + q̂q̂ᵀ, torsion 1/cos θ, θ = α/2.
-    let th = SinCos::of(0.5 * alpha);
     let a_s = th.x_over_sin();
     // (1 − a_s)/α², smooth: a_s ≈ 1 + α²/24 → −1/24
     let coef = if alpha < 1e-4 {
@@ -356,6 +362,23 @@ pub fn centred(ra: &Mat3, rb: &Mat3, beta_prev: Real) -> Result<Centred, Singula
         a: half + rnk,
         b: half - rnk,
     })
+}
+
+/// The columns of `m` rotated by the angle `th` about the unit axis w/|w| (|w| = `w_norm`):
+/// v cos θ + (q × v) sin θ + q (q·v)(1 − cos θ). No rotation when w = 0.
+#[inline]
+fn rotate_about(w: &Vec3, w_norm: Real, th: &SinCos, m: &Mat3) -> Mat3 {
+    if w_norm == 0.0 {
+        return *m;
+    }
+    let q = w / w_norm;
+    let mut out = *m;
+    for j in 0..3 {
+        let v: Vec3 = m.column(j).into();
+        let r = v * th.cos + q.cross(&v) * th.sin + q * (q.dot(&v) * (1.0 - th.cos));
+        out.set_column(j, &r);
+    }
+    out
 }
 
 /// Component positions and gradients of a connection type at nodes a, b.
@@ -435,7 +458,7 @@ pub fn geometry_into(
         Translational::RadialThrust => {
             let e3a: Vec3 = ra.column(2).into();
             let d_loc = ra.transpose() * d;
-            let r = d_loc.x.hypot(d_loc.y);
+            let r = norm2(d_loc.x, d_loc.y);
             let l = d_loc.z;
             // Why: e_r = d⊥/r is undefined on the axis; keep the last well-defined direction.
             if r > R_MIN {
@@ -514,7 +537,7 @@ pub fn geometry_into(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::physics::math::quat_from_wxyz;
+    use crate::physics::math::{exp_so3, quat_from_wxyz, x_over_sin};
     use std::f64::consts::PI;
 
     const ALL: [ConnectionType; 5] = [

@@ -32,6 +32,21 @@ pub fn quat_exp(phi: &Vec3) -> Quat {
     UnitQuaternion::new_unchecked(nalgebra::Quaternion::from_parts(cos, v * (sin / n)))
 }
 
+/// |(x, y)|: √(x² + y²) where the squares neither overflow nor lose precision to
+/// underflow (1e-150 ≤ |(x, y)| ≤ 1e150), else libm's `hypot`, which is several times
+/// slower and sits on the per-step path of friction and RADIAL-THRUST.
+#[inline]
+pub fn norm2(x: Real, y: Real) -> Real {
+    let n = (x * x + y * y).sqrt();
+    if (1e-150..=1e150).contains(&n) {
+        n
+    } else if x == 0.0 && y == 0.0 {
+        0.0
+    } else {
+        x.hypot(y)
+    }
+}
+
 /// Rotation about the local 3-axis by `angle` (radians).
 #[inline]
 pub fn rot_z(angle: Real) -> Mat3 {
@@ -218,6 +233,25 @@ mod tests {
                 assert_eq!(a[i].to_bits(), b[i].to_bits(), "{phi:?}");
             }
         }
+    }
+
+    #[test]
+    fn norm2_is_hypot_to_round_off_at_every_scale() {
+        for (x, y) in [
+            (3.0, 4.0),
+            (0.0, 0.0),
+            (-0.0, 0.0),
+            (1e-160, -2e-160),
+            (0.0, 1e-200),
+            (1e160, 1e160),
+            (f64::MAX, 1.0),
+            (-1e-3, 2.5e5),
+            (f64::INFINITY, 1.0),
+        ] {
+            let (a, b) = (norm2(x, y), x.hypot(y));
+            assert!(a == b || (a - b).abs() <= 2.0 * f64::EPSILON * b, "{x} {y}: {a} {b}");
+        }
+        assert!(norm2(f64::NAN, 1.0).is_nan());
     }
 
     #[test]
