@@ -752,26 +752,14 @@ impl ModelInstance {
             }
             Err(e) => {
                 self.s.mode = Mode::Error;
-                Err(FmuError::error(match e {
-                    StepError::Singular(s, tau) => format!(
-                        "{F}: at t = {:?}: {}; the state at t = {t:?} is kept (fmi2Reset or fmi2SetFMUstate recovers)",
-                        t + tau,
-                        singular_text(s)
-                    ),
-                    StepError::NotFinite(tau) => format!(
-                        "{F}: at t = {:?}: an output would not be finite; the state at t = {t:?} is kept",
-                        t + tau
-                    ),
-                    StepError::TooManySubsteps(n) => format!(
-                        "{F}: the step h = {h:?} would need {n:e} internal substeps (more than {}); use a smaller step or a larger cosim.maxSubstep",
-                        crate::physics::step::MAX_SUBSTEPS
-                    ),
-                }))
+                Err(step_error(t, h, e))
             }
         }
     }
 
-    /// Logs stop and stick/slip transitions under logEvents.
+    /// Logs stop and stick/slip transitions under logEvents (kept out of fmi2DoStep's code).
+    #[cold]
+    #[inline(never)]
     fn log_transitions(&self, before: &State, after: &State) {
         for k in 0..6 {
             let (s0, s1) = (before.stop_status[k], after.stop_status[k]);
@@ -927,6 +915,28 @@ fn evaluate_at_into(
         )));
     }
     Ok(())
+}
+
+/// The message of a refused fmi2DoStep(t, h) (off the hot path).
+#[cold]
+#[inline(never)]
+fn step_error(t: Real, h: Real, e: StepError) -> FmuError {
+    const F: &str = "fmi2DoStep";
+    FmuError::error(match e {
+        StepError::Singular(s, tau) => format!(
+            "{F}: at t = {:?}: {}; the state at t = {t:?} is kept (fmi2Reset or fmi2SetFMUstate recovers)",
+            t + tau,
+            singular_text(s)
+        ),
+        StepError::NotFinite(tau) => format!(
+            "{F}: at t = {:?}: an output would not be finite; the state at t = {t:?} is kept",
+            t + tau
+        ),
+        StepError::TooManySubsteps(n) => format!(
+            "{F}: the step h = {h:?} would need {n:e} internal substeps (more than {}); use a smaller step or a larger cosim.maxSubstep",
+            crate::physics::step::MAX_SUBSTEPS
+        ),
+    })
 }
 
 /// The nodes from raw inputs (quaternions normalised; a bad one is refused).

@@ -356,18 +356,18 @@ pub fn evaluate_into(
     for k in 0..6 {
         o.ctf[k] = o.cef[k] + o.cvf[k] + o.csf[k] + o.crf[k];
     }
-    // node loads by virtual work: −Σ F_k ∇c_k
-    (o.fa, o.ma, o.fb, o.mb) = (Vec3::zeros(), Vec3::zeros(), Vec3::zeros(), Vec3::zeros());
+    // node loads by virtual work: −Σ F_k ∇c_k; f_a = −f_b since ∂c/∂x_a = −∂c/∂x_b
+    (o.ma, o.fb, o.mb) = (Vec3::zeros(), Vec3::zeros(), Vec3::zeros());
     for k in 0..6 {
         let f = o.ctf[k];
         if f != 0.0 {
             let gr = &g.grad[k];
-            o.fa -= gr.xa * f;
             o.ma -= gr.ta * f;
             o.fb -= gr.xb * f;
             o.mb -= gr.tb * f;
         }
     }
+    o.fa = Vec3::zeros() - o.fb;
     next.power = [p_damp, p_stop];
     o.energy = Energy {
         stored,

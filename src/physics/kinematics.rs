@@ -153,10 +153,12 @@ impl Default for Grad {
 }
 
 impl Grad {
-    /// Rate of the component for the node twists: ċ = ∇c · (v_a, ω_a, v_b, ω_b).
+    /// Rate of the component for the node twists: ċ = ∇c · (v_a, ω_a, v_b, ω_b), written
+    /// with ∂c/∂x_a = −∂c/∂x_b (every component depends on the positions through
+    /// d = x_b − x_a only).
     #[inline]
     pub fn rate(&self, a: &Node, b: &Node) -> Real {
-        self.xa.dot(&a.v) + self.ta.dot(&a.w) + self.xb.dot(&b.v) + self.tb.dot(&b.w)
+        self.xb.dot(&(b.v - a.v)) + self.ta.dot(&a.w) + self.tb.dot(&b.w)
     }
 }
 
@@ -410,21 +412,25 @@ pub fn geometry_into(
     let ra = *a.q.to_rotation_matrix().matrix();
     let rb = *b.q.to_rotation_matrix().matrix();
     let d = b.r - a.r;
-    // field by field: a struct literal would be built aside and copied
-    g.pos = [0.0; 6];
-    g.grad = [Grad::ZERO; 6];
+    // field by field: a struct literal would be built aside and copied; only the slots the
+    // connection type leaves absent are zeroed, the others are written below
+    for (k, role) in ct.roles().iter().enumerate() {
+        if *role == Role::Absent {
+            g.pos[k] = 0.0;
+            g.grad[k] = Grad::ZERO;
+        }
+    }
     g.triad = ra;
     g.branches = *prev;
 
     // Local directions and, for the centred triad, the rotational components.
-    let mut tri_a = Mat3::identity(); // ∂ψ/∂θ_a
-    let mut tri_b = Mat3::zeros(); // ∂ψ/∂θ_b
-    if ct.centred() {
+    let mut tri_a = Mat3::identity(); // ∂ψ/∂θ_a; ∂ψ/∂θ_b = I − ∂ψ/∂θ_a, or 0 when not centred
+    let centred_triad = ct.centred();
+    if centred_triad {
         let cen = centred(&ra, &rb, prev.beta)?;
         g.triad = cen.triad;
         g.branches.beta = cen.angles.z;
         tri_a = cen.a;
-        tri_b = cen.b;
         if ct.rot == Rotational::ProjectionFlexionTorsion {
             for i in 0..3 {
                 let row: Vec3 = cen.k.row(i).transpose();
@@ -446,12 +452,19 @@ pub fn geometry_into(
             for i in 0..3 {
                 let e: Vec3 = g.triad.column(i).into();
                 let exd = e.cross(&d);
+                let ta = tri_a.transpose() * exd;
                 g.pos[i] = e.dot(&d);
                 g.grad[i] = Grad {
                     xa: -e,
-                    ta: tri_a.transpose() * exd,
+                    ta,
                     xb: e,
-                    tb: tri_b.transpose() * exd,
+                    // ∂ψ/∂θ_a + ∂ψ/∂θ_b = I (a rigid rotation of both nodes turns the triad
+                    // with them), so the b part is what the a part leaves
+                    tb: if centred_triad {
+                        exd - ta
+                    } else {
+                        Vec3::zeros()
+                    },
                 };
             }
         }

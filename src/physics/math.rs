@@ -249,7 +249,10 @@ mod tests {
             (f64::INFINITY, 1.0),
         ] {
             let (a, b) = (norm2(x, y), x.hypot(y));
-            assert!(a == b || (a - b).abs() <= 2.0 * f64::EPSILON * b, "{x} {y}: {a} {b}");
+            assert!(
+                a == b || (a - b).abs() <= 2.0 * f64::EPSILON * b,
+                "{x} {y}: {a} {b}"
+            );
         }
         assert!(norm2(f64::NAN, 1.0).is_nan());
     }
