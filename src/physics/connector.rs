@@ -270,6 +270,41 @@ pub fn evaluate_into(
     a: &Node,
     b: &Node,
     mode: Eval,
+    out: (&mut Outputs, &mut State),
+) -> Result<(), Singular> {
+    use super::kinematics::{Rotational as R, Translational as T};
+    // One copy of the body per connection type of the variants, each with `ct` a constant:
+    // the branches on the type and its roles fold away, and each variant runs only its own
+    // code (the per-step path; other pairings take the general copy).
+    macro_rules! per_type {
+        ($(($t:ident, $r:ident)),*) => {
+            match (ct.trans, ct.rot) {
+                $((T::$t, R::$r) => {
+                    const CT: ConnectionType = ConnectionType { trans: T::$t, rot: R::$r };
+                    evaluate_body(CT, p, st, a, b, mode, out)
+                })*
+                _ => evaluate_body(ct, p, st, a, b, mode, out),
+            }
+        };
+    }
+    per_type!(
+        (SlidePlane, Revolute),
+        (ProjectionCartesian, None),
+        (None, ProjectionFlexionTorsion),
+        (ProjectionCartesian, ProjectionFlexionTorsion),
+        (RadialThrust, None)
+    )
+}
+
+/// The body of `evaluate_into`, inlined into each of its per-type copies.
+#[inline(always)]
+fn evaluate_body(
+    ct: ConnectionType,
+    p: &Params,
+    st: &State,
+    a: &Node,
+    b: &Node,
+    mode: Eval,
     (o, next): (&mut Outputs, &mut State),
 ) -> Result<(), Singular> {
     let roles = ct.roles();

@@ -401,7 +401,7 @@ pub fn geometry(
 /// `geometry` written into `g` (no copy of the result on the per-step path).
 ///
 /// Every field of `g` is overwritten; on an error its contents are unspecified.
-#[inline]
+#[inline(always)]
 pub fn geometry_into(
     ct: ConnectionType,
     a: &Node,
