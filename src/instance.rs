@@ -430,33 +430,26 @@ impl ModelInstance {
     /// fmi2SetReal.
     pub fn set_real(&mut self, vrs: &[u32], values: &[Real]) -> FmuResult<()> {
         const F: &str = "fmi2SetReal";
-        // The per-step path: finite values of node inputs only, checked all before any is
-        // written (all or nothing); anything else, including every error, goes through the
-        // general batch, which names the culprit.
+        // The per-step path: finite values of node inputs only, written in place in one pass;
+        // the first value that is not for this path puts the inputs back as they were and
+        // hands the whole call to the general batch, which names the culprit (all or nothing).
         self.allowed(Call::Set, F)?;
-        // One pass writing in place; the first value that is not for this path puts the
-        // inputs back as they were and hands the whole call to the general batch.
         let index = &*self.real.input_index;
         let before = self.s.inputs;
         let flat = self.s.inputs.as_flattened_mut();
-        let mut changed = false;
         for (&vr, &x) in vrs.iter().zip(values) {
             let j = index.get(vr as usize).copied().unwrap_or(NO_INDEX);
             match flat.get_mut(j as usize) {
-                Some(u) if x.is_finite() => {
-                    // bits: ±0 counts as a change (it is one for the outputs)
-                    changed |= u.to_bits() != x.to_bits();
-                    *u = x;
-                }
+                Some(u) if x.is_finite() => *u = x,
                 _ => {
                     self.s.inputs = before;
                     return self.set_batch(vrs, values, Ty::Real, F, write_real);
                 }
             }
         }
-        if changed {
-            self.cache.clear();
-        }
+        // Outputs are evaluated again when read: a function of the inputs and the committed
+        // state, so an unchanged value reads back the same bits.
+        self.cache.clear();
         Ok(())
     }
 
