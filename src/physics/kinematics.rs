@@ -7,7 +7,7 @@
 //! velocities and node loads (virtual work) both follow from these gradients, so the loads
 //! are exactly in equilibrium and a purely elastic connector is exactly conservative.
 
-use super::math::{continue_branch, norm2, rot_z, Mat3, Quat, Real, SinCos, Vec3};
+use super::math::{continue_branch, norm2, Mat3, Quat, Real, SinCos, Vec3};
 
 /// Pose and twist of one node, all in W.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -314,8 +314,15 @@ pub fn centred(ra: &Mat3, rb: &Mat3, beta_prev: Real) -> Result<Centred, Singula
     // 3. torsion β (seed formula on the original frames), continued from the previous value
     let beta_raw = (e2a.dot(&e1b) - e1a.dot(&e2b)).atan2(e1a.dot(&e1b) + e2a.dot(&e2b));
     let beta = continue_branch(beta_raw, beta_prev);
-    // 4. {e1, e2, e3} = Rot(e3, β/2)·Rot(q, α/2)·{frame a}
-    let triad = ra_half * rot_z(0.5 * beta);
+    // 4. {e1, e2, e3} = Rot(e3, β/2)·Rot(q, α/2)·{frame a}: ra_half·rot_z(β/2) column by
+    //    column (the zeros of rot_z left out)
+    let (sb, cb) = (0.5 * beta).sin_cos();
+    let (h0, h1c) = (ra_half.column(0), ra_half.column(1));
+    let triad = Mat3::from_columns(&[
+        h0 * cb + h1c * sb,
+        h0 * -sb + h1c * cb,
+        ra_half.column(2).into(),
+    ]);
     let a1 = triad.column(0).dot(&phi);
     let a2 = triad.column(1).dot(&phi);
 
@@ -328,33 +335,22 @@ pub fn centred(ra: &Mat3, rb: &Mat3, beta_prev: Real) -> Result<Centred, Singula
     } else {
         (1.0 - a_s) / (alpha * alpha)
     };
-    let m_inv = Mat3::new(
-        a_s + coef * a1 * a1,
-        coef * a1 * a2,
-        0.0,
-        coef * a1 * a2,
-        a_s + coef * a2 * a2,
-        0.0,
-        0.0,
-        0.0,
-        1.0 / th.cos,
-    );
-    let k = m_inv * triad.transpose();
+    // M⁻¹ is symmetric with the in-plane block (m11 m12; m12 m22) and the torsion entry m33:
+    // K = M⁻¹·triadᵀ, i.e. Kᵀ = triad·M⁻¹ column by column
+    let (m11, m12, m22) = (a_s + coef * a1 * a1, coef * a1 * a2, a_s + coef * a2 * a2);
+    let m33 = 1.0 / th.cos;
+    let (t0, t1, t2) = (triad.column(0), triad.column(1), triad.column(2));
+    let k_t = Mat3::from_columns(&[t0 * m11 + t1 * m12, t0 * m12 + t1 * m22, t2 * m33]);
+    let k = k_t.transpose();
     // Triad variation δψ = ½(δθ_a + δθ_b) − R_c·N·δΘ with N = ½(Ja + Jb):
     let h1 = th.one_minus_cos_over_sq();
     let h2 = th.sinc();
-    let n = Mat3::new(
-        0.0,
-        0.0,
-        h2 * a2 * 0.25,
-        0.0,
-        0.0,
-        -h2 * a1 * 0.25,
-        -h1 * a2 * 0.25,
-        h1 * a1 * 0.25,
-        0.0,
-    );
-    let rnk = triad * n * k;
+    // N = (0 0 n13; 0 0 n23; n31 n32 0), so N·K has rows n13 K₃, n23 K₃, n31 K₁ + n32 K₂
+    let (n13, n23) = (h2 * a2 * 0.25, -h2 * a1 * 0.25);
+    let (n31, n32) = (-h1 * a2 * 0.25, h1 * a1 * 0.25);
+    let (k1, k2, k3) = (k_t.column(0), k_t.column(1), k_t.column(2));
+    let nk = Mat3::from_columns(&[k3 * n13, k3 * n23, k1 * n31 + k2 * n32]).transpose();
+    let rnk = triad * nk;
     let half = Mat3::identity() * 0.5;
     Ok(Centred {
         triad,
@@ -550,7 +546,7 @@ pub fn geometry_into(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::physics::math::{exp_so3, quat_from_wxyz, x_over_sin};
+    use crate::physics::math::{exp_so3, quat_from_wxyz, rot_z, x_over_sin};
     use std::f64::consts::PI;
 
     const ALL: [ConnectionType; 5] = [
