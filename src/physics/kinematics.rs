@@ -301,12 +301,13 @@ pub fn centred(ra: &Mat3, rb: &Mat3, beta_prev: Real) -> Result<Centred, Singula
     if alpha > std::f64::consts::PI - ALPHA_MAX_GAP {
         return Err(Singular::FlexionNearPi(alpha));
     }
-    // s = |e3a × e3b| is sin α, so α/sin α needs no sine of its own
-    let phi = w * if alpha < 1e-4 {
-        1.0 + alpha * alpha / 6.0
-    } else {
-        alpha / s
-    };
+    // s = |e3a × e3b| and c are sin α and cos α, so α/sin α needs no sine of its own
+    let phi = w * SinCos {
+        x: alpha,
+        sin: s,
+        cos: c,
+    }
+    .x_over_sin();
     // 2. frame a rotated by +α/2 about q: its third axis is the bisector e3 (Rodrigues, with
     //    the sine and cosine of α/2 that the Jacobians below need too)
     let th = SinCos::of(0.5 * alpha);
