@@ -19,6 +19,11 @@ pub enum Eval {
     /// limit (the slip branch of the return map): those that slip at the point where the
     /// derivative is taken, so that it does not straddle the stick/slip kink there.
     Tangent([bool; 2]),
+    /// The start of the run (end of initialization), from a state with no elastic slip: the
+    /// stick dampers see the initial rates; where their force exceeds the friction limit the
+    /// excess is a plastic slip *rate* (the limit of a substep h → 0: no slip is taken, no
+    /// energy dissipated). The state it commits is on the limit, so `Read` there reproduces it.
+    Start,
 }
 
 /// Friction parameters (SPEC §3 names `friction.*`).
@@ -245,6 +250,7 @@ pub fn update(
         _ => Real::INFINITY,
     };
     let stepping = h.is_finite();
+    let start = mode == Eval::Start;
     // the slip branch of the return map, for the consistent tangent of a slipping effect
     let on_limit = |effect: usize| matches!(mode, Eval::Tangent(slip) if slip[effect]);
     let (f_nc, m_nr1) = normal_loads(p, reaction[0], reaction[1], reaction[2]);
@@ -286,8 +292,13 @@ pub fn update(
     let (e, d) = (elastic(st), damper(rate_p));
     let f_tr = [p.k_stick * e[0] + d[0], p.k_stick * e[1] + d[1]];
     let m_tr = p.k_stick_r1 * e[2] + d[2];
-    // stiffness of the return: the spring and the damper over the substep
-    let k_ret = [p.k_stick + p.c_stick / h, p.k_stick_r1 + p.c_stick_r1 / h];
+    // stiffness of the return: the spring and the damper over the substep; at the start the
+    // dampers alone, per unit of plastic slip rate
+    let k_ret = if start {
+        [p.c_stick, p.c_stick_r1]
+    } else {
+        [p.k_stick + p.c_stick / h, p.k_stick_r1 + p.c_stick_r1 / h]
+    };
     // effective spin radius ρ = 2R/3 turns the spin rate into a slip speed (1 m when R = 0)
     let rho = if p.radius > 0.0 {
         2.0 / 3.0 * p.radius
@@ -313,6 +324,10 @@ pub fn update(
         next.status_r1 = status;
         if scale == 1.0 {
             (f_tr, m_tr)
+        } else if start {
+            // onto the ellipsoid along the trial's direction: the start only needs a point of
+            // the limit; the disc's flow takes over at the first substep
+            ([f_tr[0] * scale, f_tr[1] * scale], m_tr * scale)
         } else {
             let f_abs = norm2(f_tr[0], f_tr[1]);
             let (f, m) = disc_flow_return(p.radius, rho, k_ret, f_abs, m_tr.abs(), limit);
@@ -332,8 +347,25 @@ pub fn update(
         ([f_tr[0] * scale, f_tr[1] * scale], m_tr * scale_r)
     };
     // plastic slip Δs = (trial − returned)/(k + c/h), its rate, accumulation and dissipation
-    let ds = [(f_tr[0] - f[0]) / k_ret[0], (f_tr[1] - f[1]) / k_ret[0]];
-    let ds_r = (m_tr - m) / k_ret[1];
+    let excess = [f_tr[0] - f[0], f_tr[1] - f[1], m_tr - m];
+    if start {
+        // the excess over the limit is a plastic rate, (trial − returned)/c (a return happens
+        // only with a damper: the trial of an unstretched spring alone is zero)
+        let per = |x: Real, c: Real| if x == 0.0 { 0.0 } else { x / c };
+        next.slip_rate = [
+            per(excess[0], k_ret[0]),
+            per(excess[1], k_ret[0]),
+            per(excess[2], k_ret[1]),
+        ];
+    }
+    let (ds, ds_r) = if start {
+        ([0.0; 2], 0.0)
+    } else {
+        (
+            [excess[0] / k_ret[0], excess[1] / k_ret[0]],
+            excess[2] / k_ret[1],
+        )
+    };
     next.slip_plastic[0] += ds[0];
     next.slip_plastic[1] += ds[1];
     next.slip_plastic_r1 += ds_r;
