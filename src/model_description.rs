@@ -2,7 +2,7 @@
 //! function, no I/O. The committed files under `modelDescription/` must equal its output.
 
 use crate::error::Category;
-use crate::variables::{table, Causality, Deps, Start, Table, Variability, Variant};
+use crate::model::variables::{table, Causality, Deps, Start, Table, Variability, Variant};
 use serde::Serialize;
 
 /// Capability flags, declared only for what works and is tested.
@@ -282,7 +282,7 @@ fn build(t: &Table) -> ModelDescription {
         })
         .collect();
     // 1-based indices for ModelStructure
-    let index_of = |pred: &dyn Fn(&crate::variables::VarSpec) -> bool| -> Vec<usize> {
+    let index_of = |pred: &dyn Fn(&crate::model::variables::VarSpec) -> bool| -> Vec<usize> {
         t.vars
             .iter()
             .enumerate()
@@ -295,7 +295,7 @@ fn build(t: &Table) -> ModelDescription {
         v.causality == Causality::Input
             && matches!(
                 v.field,
-                crate::variables::Field::Input { idx, .. } if idx < 7
+                crate::model::variables::Field::Input { idx, .. } if idx < 7
             )
     });
     let params = index_of(&|v| v.causality == Causality::Parameter);

@@ -6,8 +6,9 @@ use super::types::{
     fmi2CallbackFunctions, fmi2Component, fmi2FMUstate, fmi2Status, fmi2String, fmi2Type,
 };
 use crate::error::{Category, FmuError, FmuResult, Level};
-use crate::instance::{LogSink, ModelInstance, Snapshot};
-use crate::variables::variant_by_guid;
+use crate::instance::{LogSink, ModelInstance};
+use crate::model::snapshot::Snapshot;
+use crate::model::variables::variant_by_guid;
 use libc::{c_char, c_void};
 use std::any::Any;
 use std::ffi::CStr;
@@ -540,7 +541,7 @@ pub(crate) fn copy_serialized(
     fname: &str,
 ) -> FmuResult<()> {
     inst.own_state(s, fname)?;
-    let bytes = crate::instance::serialize(inst.table, s);
+    let bytes = inst.serialize(s);
     let size = buf.len();
     let dst = buf.get_mut(..bytes.len()).ok_or_else(|| {
         FmuError::error(format!(

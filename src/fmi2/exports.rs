@@ -21,7 +21,7 @@ use super::types::{
     fmi2Real, fmi2Status, fmi2StatusKind, fmi2String, fmi2ValueReference,
 };
 use crate::error::FmuError;
-use crate::instance::{serialize, Call, ModelInstance};
+use crate::instance::{Call, ModelInstance};
 use libc::{c_char, c_int, size_t};
 
 // ---------------------------------------------------------------- common functions
@@ -354,10 +354,7 @@ pub extern "C" fn fmi2SerializedFMUstateSize(
         let state = unsafe { state_ref(FMUstate, F) };
         // SAFETY: size is NULL (refused) or writable.
         let out = unsafe { out_ref(size, "size", F) };
-        let len = state.and_then(|s| {
-            inst.own_state(s, F)
-                .map(|()| serialize(inst.table, s).len())
-        });
+        let len = state.and_then(|s| inst.own_state(s, F).map(|()| inst.serialize(s).len()));
         len.and_then(|n| out.map(|o| *o = n)).to_status(inst)
     })
 }

@@ -39,6 +39,34 @@ impl Rates {
             ..Rates::HOLD
         }
     }
+
+    /// First-order extrapolation of node `n` from the derivatives of its 13 inputs (r, q as
+    /// given `q_raw` = w x y z before normalisation, v, ω) where `set`, its own velocities
+    /// elsewhere. Quaternion derivatives give the angular rate ω = 2 q̇ ⊗ q* (q̇ scaled like
+    /// the normalised q).
+    pub fn linear(n: &Node, q_raw: &[Real], der: &[Real; 13], set: &[bool; 13]) -> Rates {
+        if *set == [false; 13] {
+            // what the general case below gives without derivatives
+            return Rates::from_velocities(n);
+        }
+        let v3 = |i: usize, fb: Vec3| {
+            let pick = |j: usize, f: Real| if set[j] { der[j] } else { f };
+            Vec3::new(pick(i, fb.x), pick(i + 1, fb.y), pick(i + 2, fb.z))
+        };
+        let dth = if set[3..7].iter().any(|&s| s) {
+            let norm = q_raw.iter().map(|x| x * x).sum::<Real>().sqrt();
+            let qd = nalgebra::Quaternion::new(der[3], der[4], der[5], der[6]) / norm;
+            (qd * n.q.quaternion().conjugate() * 2.0).imag()
+        } else {
+            n.w
+        };
+        Rates {
+            dr: v3(0, n.v),
+            dth,
+            dv: v3(7, Vec3::zeros()),
+            dw: v3(10, Vec3::zeros()),
+        }
+    }
 }
 
 /// The node after time τ along its extrapolation (rotations through the exponential map).

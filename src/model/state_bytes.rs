@@ -8,14 +8,13 @@
 //! are written back through the same checks as fmi2Set*, so a decoded state is one that the
 //! setters could have produced.
 
-use crate::instance::{
-    read_int_param, read_real_param, write_int, write_real, Mode, NodeInputs, Snapshot,
-};
+use super::access::{read_int_param, read_real_param, write_int, write_real};
+use super::snapshot::{Mode, NodeInputs, Snapshot};
+use super::variables::{Causality, CompPar, Field, Start, Table};
 use crate::physics::connector::{Energy, State};
 use crate::physics::friction::{FrictionState, Status};
 use crate::physics::kinematics::Branches;
 use crate::physics::math::Vec3;
-use crate::variables::{Causality, CompPar, Field, Start, Table};
 
 const MAGIC: &[u8; 4] = b"CFMU";
 /// Version of the byte format; bump on any layout change.
@@ -249,13 +248,11 @@ pub fn decode(t: &Table, bytes: &[u8]) -> Result<Snapshot, String> {
     {
         let bad = |why: &str| format!("parameter {} {why}", v.name);
         match v.start {
-            Start::Real(_) => {
-                write_real(&mut params, &mut inputs, v.field, r.f_any()?).map_err(bad)?
-            }
+            Start::Real(_) => write_real(&mut params, &mut inputs, v, r.f_any()?).map_err(bad)?,
             Start::Integer(_) => {
                 let mut a = [0u8; 4];
                 a.copy_from_slice(r.take(4)?);
-                write_int(&mut params, v.field, i32::from_le_bytes(a)).map_err(bad)?
+                write_int(&mut params, v, i32::from_le_bytes(a)).map_err(bad)?
             }
             Start::Boolean(_) => match (v.field, r.b()?) {
                 (
@@ -279,7 +276,7 @@ pub fn decode(t: &Table, bytes: &[u8]) -> Result<Snapshot, String> {
     }
     for v in &t.vars {
         if let Field::Input { .. } = v.field {
-            write_real(&mut params, &mut inputs, v.field, r.f_any()?)
+            write_real(&mut params, &mut inputs, v, r.f_any()?)
                 .map_err(|why| format!("input {} {why}", v.name))?;
         }
     }

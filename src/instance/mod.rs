@@ -1,0 +1,377 @@
+//! One FMU instance: the FMI 2.0 Co-Simulation state machine and lifecycle over the model's
+//! data. Safe Rust, no FMI C types: the boundary in `fmi2` converts pointers and statuses,
+//! names the FMI function in messages, and logs what this layer returns.
+//!
+//! - this file: the state machine, lifecycle, outputs at the current inputs, FMU state;
+//! - `values`: get and set through the variable table (all or nothing);
+//! - `stepping`: fmi2DoStep and its status;
+//! - `derivatives`: input derivatives and directional derivatives.
+
+mod cache;
+mod derivatives;
+mod stepping;
+mod values;
+
+use crate::error::{Category, FmuError, FmuResult, Level};
+use crate::model::access::nodes_of;
+use crate::model::slots::{real_tables, RealTables};
+use crate::model::snapshot::{NodeInputs, Snapshot};
+use crate::model::variables::{table, Table, Variant};
+use crate::physics::connector::{evaluate_into, Outputs, State};
+use crate::physics::friction::Eval;
+use crate::physics::init::initial_state;
+use crate::physics::kinematics::{ConnectionType, Node, Singular};
+use crate::physics::math::Real;
+use cache::OutputCache;
+
+pub use crate::model::snapshot::Mode;
+
+/// The FMI calls whose allowed states differ (Reference-FMUs masks, CS columns).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Call {
+    /// fmi2FreeInstance, fmi2Reset, FMU state functions
+    Lifecycle,
+    /// fmi2SetupExperiment, fmi2EnterInitializationMode
+    Setup,
+    /// fmi2ExitInitializationMode
+    ExitInit,
+    /// fmi2Terminate
+    Terminate,
+    /// fmi2Get{Real,Integer,Boolean,String}, fmi2GetDirectionalDerivative
+    Get,
+    /// fmi2Set{Real,Integer,Boolean,String}, fmi2SetRealInputDerivatives
+    Set,
+    /// fmi2GetRealOutputDerivatives
+    OutputDerivatives,
+    /// fmi2DoStep
+    DoStep,
+    /// fmi2Get*Status
+    Status,
+}
+
+impl Call {
+    fn mask(self) -> u32 {
+        use Mode::*;
+        let m = |ms: &[Mode]| ms.iter().fold(0u32, |acc, &x| acc | x as u32);
+        match self {
+            Call::Lifecycle => m(&[
+                Instantiated,
+                InitializationMode,
+                StepComplete,
+                StepFailed,
+                StepCanceled,
+                Terminated,
+                Error,
+            ]),
+            Call::Setup => m(&[Instantiated]),
+            Call::ExitInit => m(&[InitializationMode]),
+            Call::Terminate => m(&[StepComplete, StepFailed]),
+            Call::Get => m(&[
+                InitializationMode,
+                StepComplete,
+                StepFailed,
+                StepCanceled,
+                Terminated,
+                Error,
+            ]),
+            Call::Set => m(&[Instantiated, InitializationMode, StepComplete]),
+            Call::OutputDerivatives => {
+                m(&[StepComplete, StepFailed, StepCanceled, Terminated, Error])
+            }
+            Call::DoStep => m(&[StepComplete]),
+            Call::Status => m(&[StepComplete, StepFailed, StepCanceled, Terminated]),
+        }
+    }
+}
+
+/// Where log messages go: the boundary implements it with the importer's callback.
+pub trait LogSink: Send {
+    /// Writes one message.
+    fn log(&self, level: Level, category: Category, message: &str);
+}
+
+/// One FMU instance.
+pub struct ModelInstance {
+    /// The variant's variable table.
+    pub table: &'static Table,
+    /// The same table as what fmi2SetReal / fmi2GetReal do with each VR.
+    real: &'static RealTables,
+    ct: ConnectionType,
+    name: String,
+    logger: Box<dyn LogSink>,
+    logging_on: bool,
+    categories: [bool; 4],
+    s: Snapshot,
+    /// Outputs at the current inputs and committed state.
+    cache: OutputCache,
+}
+
+impl ModelInstance {
+    /// A new instance of `variant` in Mode::Instantiated, with start values.
+    pub fn new(variant: Variant, name: &str, logger: Box<dyn LogSink>, logging_on: bool) -> Self {
+        let table = table(variant);
+        ModelInstance {
+            table,
+            real: real_tables(table),
+            ct: table.spec.connection,
+            name: name.to_string(),
+            logger,
+            logging_on,
+            categories: [true; 4],
+            s: Snapshot::start(table),
+            cache: OutputCache::new(),
+        }
+    }
+
+    /// The instance name given to fmi2Instantiate.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Current mode.
+    pub fn mode(&self) -> Mode {
+        self.s.mode
+    }
+
+    /// Current time (s).
+    pub fn time(&self) -> Real {
+        self.s.time
+    }
+
+    /// Logs one message: errors and warnings always (every non-OK status is explained),
+    /// events and call traces only when logging is on for their category.
+    pub fn log(&self, level: Level, category: Category, message: &str) {
+        let always = matches!(category, Category::Error | Category::Warning);
+        if always || (self.logging_on && self.categories[category as usize]) {
+            self.logger.log(level, category, message);
+        }
+    }
+
+    /// Whether a category is being logged (to skip formatting otherwise).
+    pub fn wants(&self, category: Category) -> bool {
+        self.logging_on && self.categories[category as usize]
+    }
+
+    /// Logs an error result once and passes it on.
+    pub fn report<T>(&mut self, r: FmuResult<T>) -> FmuResult<T> {
+        if let Err(e) = &r {
+            self.log(e.level, e.category(), &e.message);
+        }
+        r
+    }
+
+    /// Marks the instance fatal after a caught panic.
+    pub fn set_fatal(&mut self) {
+        self.s.mode = Mode::Fatal;
+    }
+
+    /// Checks that `call` (named `fname` in messages) is allowed in the current mode.
+    pub fn allowed(&self, call: Call, fname: &str) -> FmuResult<()> {
+        if call.mask() & self.s.mode as u32 != 0 {
+            Ok(())
+        } else {
+            Err(FmuError::error(format!(
+                "{fname} is not allowed in state {:?}",
+                self.s.mode
+            )))
+        }
+    }
+
+    /// fmi2SetDebugLogging.
+    pub fn set_debug_logging(&mut self, on: bool, categories: &[&str]) -> FmuResult<()> {
+        let mut set = [categories.is_empty(); 4];
+        for name in categories {
+            match Category::from_name(name) {
+                Some(c) => set[c as usize] = true,
+                None => {
+                    return Err(FmuError::error(format!(
+                        "fmi2SetDebugLogging: unknown log category \"{name}\""
+                    )))
+                }
+            }
+        }
+        self.logging_on = on;
+        self.categories = set;
+        Ok(())
+    }
+
+    /// fmi2SetupExperiment (tolerance is not used: the kernel has no error-controlled solver).
+    pub fn setup_experiment(&mut self, start: Real, _stop: Option<Real>) -> FmuResult<()> {
+        self.allowed(Call::Setup, "fmi2SetupExperiment")?;
+        if !start.is_finite() {
+            return Err(FmuError::error(
+                "fmi2SetupExperiment: startTime is not finite",
+            ));
+        }
+        self.s.start_time = start;
+        self.s.time = start;
+        Ok(())
+    }
+
+    /// fmi2EnterInitializationMode.
+    pub fn enter_initialization_mode(&mut self) -> FmuResult<()> {
+        self.allowed(Call::Setup, "fmi2EnterInitializationMode")?;
+        self.s.mode = Mode::InitializationMode;
+        self.cache.clear();
+        Ok(())
+    }
+
+    /// fmi2ExitInitializationMode: checks the parameters, fixes the initial geometry.
+    pub fn exit_initialization_mode(&mut self) -> FmuResult<()> {
+        self.allowed(Call::ExitInit, "fmi2ExitInitializationMode")?;
+        self.s.params.check(&self.ct.roles()).map_err(|name| {
+            FmuError::error(format!(
+                "fmi2ExitInitializationMode: invalid parameter {name}"
+            ))
+        })?;
+        let (a, b) = self
+            .nodes()
+            .map_err(|e| FmuError::error(format!("fmi2ExitInitializationMode: {}", e.message)))?;
+        let st = initial_state(self.ct, &self.s.params, &a, &b)
+            .map_err(|e| singular_error("fmi2ExitInitializationMode", e))?;
+        // A start whose outputs or dissipation power are not finite (velocity inputs so large
+        // that c·v² overflows) is refused: no step could succeed from it, and its state would
+        // not de-serialize (regression 005). The instance stays in Initialization Mode.
+        self.evaluate_at(&self.s.inputs, Eval::Read, "fmi2ExitInitializationMode")?;
+        if !st.power.iter().all(|x| x.is_finite()) {
+            return Err(FmuError::error(
+                "fmi2ExitInitializationMode: the dissipation power at the initial inputs is not finite (velocity inputs too large)",
+            ));
+        }
+        self.s.state = st;
+        self.s.mode = Mode::StepComplete;
+        self.cache.clear();
+        Ok(())
+    }
+
+    /// fmi2Terminate.
+    pub fn terminate(&mut self) -> FmuResult<()> {
+        self.allowed(Call::Terminate, "fmi2Terminate")?;
+        self.s.mode = Mode::Terminated;
+        Ok(())
+    }
+
+    /// fmi2Reset: back to start values in Mode::Instantiated.
+    pub fn reset(&mut self) -> FmuResult<()> {
+        self.allowed(Call::Lifecycle, "fmi2Reset")?;
+        self.s = Snapshot::start(self.table);
+        self.cache.clear();
+        Ok(())
+    }
+
+    /// The nodes from the current inputs (quaternions normalised; a bad one is refused).
+    fn nodes(&self) -> FmuResult<(Node, Node)> {
+        nodes_of(&self.s.inputs)
+    }
+
+    /// Outputs at the given inputs with the committed state (in initialization: with the
+    /// state the instance would start from at those inputs).
+    fn evaluate_at(&self, inputs: &[NodeInputs; 2], mode: Eval, fname: &str) -> FmuResult<Outputs> {
+        let mut o = Outputs::default();
+        evaluate_at_into(self.ct, &self.s, inputs, mode, fname, &mut o)?;
+        Ok(o)
+    }
+
+    /// Outputs at the current inputs and committed state, cached until something changes.
+    fn outputs(&mut self, fname: &str) -> FmuResult<&Outputs> {
+        if self.cache.get().is_none() {
+            let s = &self.s;
+            evaluate_at_into(self.ct, s, &s.inputs, Eval::Read, fname, self.cache.spare())?;
+            self.cache.commit_spare();
+        }
+        // just filled when it was empty
+        self.cache
+            .get()
+            .ok_or_else(|| FmuError::error(format!("{fname}: no outputs")))
+    }
+
+    /// fmi2GetFMUstate.
+    pub fn get_state(&self) -> FmuResult<Snapshot> {
+        self.allowed(Call::Lifecycle, "fmi2GetFMUstate")?;
+        Ok(self.s.clone())
+    }
+
+    /// Refuses an FMU state made by an instance of another variant (`fname` names the caller):
+    /// its parameters and inputs follow another variable table.
+    pub fn own_state(&self, s: &Snapshot, fname: &str) -> FmuResult<()> {
+        if s.variant == self.s.variant {
+            return Ok(());
+        }
+        Err(FmuError::error(format!(
+            "{fname}: the state belongs to {}, not {}; refused",
+            s.variant.spec().model_identifier,
+            self.table.spec.model_identifier
+        )))
+    }
+
+    /// fmi2SetFMUstate.
+    pub fn set_state(&mut self, s: &Snapshot) -> FmuResult<()> {
+        self.allowed(Call::Lifecycle, "fmi2SetFMUstate")?;
+        self.own_state(s, "fmi2SetFMUstate")?;
+        self.s = s.clone();
+        self.cache.clear();
+        Ok(())
+    }
+
+    /// fmi2DeSerializeFMUstate: validates bytes and returns the snapshot they hold.
+    pub fn deserialize(&self, bytes: &[u8]) -> FmuResult<Snapshot> {
+        self.allowed(Call::Lifecycle, "fmi2DeSerializeFMUstate")?;
+        crate::model::state_bytes::decode(self.table, bytes).map_err(|why| {
+            FmuError::error(format!(
+                "fmi2DeSerializeFMUstate: {why}; state not restored"
+            ))
+        })
+    }
+
+    /// fmi2SerializeFMUstate: the snapshot as versioned bytes.
+    pub fn serialize(&self, s: &Snapshot) -> Vec<u8> {
+        crate::model::state_bytes::encode(self.table, s)
+    }
+}
+
+/// Outputs at `inputs` with the committed state of `s` (in initialization: with the state the
+/// instance would start from at those inputs), written into `o`.
+fn evaluate_at_into(
+    ct: ConnectionType,
+    s: &Snapshot,
+    inputs: &[NodeInputs; 2],
+    mode: Eval,
+    fname: &str,
+    o: &mut Outputs,
+) -> FmuResult<()> {
+    let (a, b) =
+        nodes_of(inputs).map_err(|e| FmuError::error(format!("{fname}: {}", e.message)))?;
+    let init;
+    let st = if s.mode == Mode::InitializationMode {
+        init = initial_state(ct, &s.params, &a, &b).map_err(|e| singular_error(fname, e))?;
+        &init
+    } else {
+        &s.state
+    };
+    let mut next = State::default();
+    evaluate_into(ct, &s.params, st, &a, &b, mode, (o, &mut next))
+        .map_err(|e| singular_error(fname, e))?;
+    if !crate::physics::step::outputs_finite(o) {
+        return Err(FmuError::error(format!(
+            "{fname}: the outputs at these inputs are not finite"
+        )));
+    }
+    Ok(())
+}
+
+fn singular_text(s: Singular) -> String {
+    match s {
+        Singular::FlexionNearPi(a) => format!(
+            "flexion angle α = {a:?} rad is at the singular configuration α → π (shafts folded back)"
+        ),
+        Singular::RevoluteUndefined => {
+            "PLANAR rotation α is undefined: e3b is perpendicular to the 2-3 plane of node a"
+                .to_string()
+        }
+        Singular::NotFinite => "a connector position is not finite".to_string(),
+    }
+}
+
+fn singular_error(fname: &str, s: Singular) -> FmuError {
+    FmuError::error(format!("{fname}: {}", singular_text(s)))
+}

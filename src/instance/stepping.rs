@@ -1,0 +1,160 @@
+//! fmi2DoStep: advance from t to t + h along the input extrapolation; the step's status.
+
+use super::ModelInstance;
+use super::{singular_text, Call};
+use crate::error::{Category, FmuError, FmuResult, Level};
+use crate::model::access::write_node;
+use crate::model::snapshot::Mode;
+use crate::physics::connector::{Extrapolation, State};
+use crate::physics::kinematics::Node;
+use crate::physics::math::Real;
+use crate::physics::step::{advance_into, Rates, StepError};
+
+impl ModelInstance {
+    /// Extrapolation rates of node n for the coming step (hold, or linear from the input
+    /// derivatives where set and the node's own velocities elsewhere).
+    fn rates(&self, n: usize, node: &Node) -> Rates {
+        match self.s.params.extrapolation {
+            Extrapolation::Hold => Rates::HOLD,
+            Extrapolation::Linear => Rates::linear(
+                node,
+                &self.s.inputs[n][3..7],
+                &self.s.input_der[n],
+                &self.s.input_der_set[n],
+            ),
+        }
+    }
+
+    /// fmi2DoStep: advance from t to t + h along the input extrapolation.
+    pub fn do_step(&mut self, t: Real, h: Real) -> FmuResult<()> {
+        const F: &str = "fmi2DoStep";
+        self.allowed(Call::DoStep, F)?;
+        if !h.is_finite() || h <= 0.0 {
+            return Err(FmuError::error(format!(
+                "{F}: communicationStepSize {h:?} must be finite and > 0"
+            )));
+        }
+        let tol = 1e-9 * t.abs().max(1.0);
+        if !t.is_finite() || (t - self.s.time).abs() > tol {
+            return Err(FmuError::error(format!(
+                "{F}: currentCommunicationPoint {t:?} does not match the FMU time {:?}",
+                self.s.time
+            )));
+        }
+        let (a, b) = self
+            .nodes()
+            .map_err(|e| FmuError::error(format!("{F}: {}", e.message)))?;
+        let (ra, rb) = (self.rates(0, &a), self.rates(1, &b));
+        let before = self.wants(Category::Events).then_some(self.s.state);
+        // the outputs at t + h are evaluated into the cache's spare buffer: it becomes the
+        // cache when the step is accepted, and a failed step leaves the cache as it was
+        let mut next = State::default();
+        match advance_into(
+            self.ct,
+            &self.s.params,
+            &self.s.state,
+            (&a, &ra),
+            (&b, &rb),
+            h,
+            (self.cache.spare(), &mut next),
+        ) {
+            Ok((a1, b1)) => {
+                self.s.state = next;
+                self.s.time = t + h;
+                write_node(&mut self.s.inputs[0], &a1);
+                write_node(&mut self.s.inputs[1], &b1);
+                self.s.input_der_set = [[false; 13]; 2];
+                // Outputs are a function of (inputs, committed state) alone: the last substep
+                // was evaluated on the nodes exactly as they are written back, from the angle
+                // branches and friction state it commits, so its outputs are that function's
+                // value (bit for bit: a restored FMU state reports what was read at saving).
+                self.cache.commit_spare();
+                if let Some(before) = before {
+                    self.log_transitions(&before, &self.s.state);
+                }
+                Ok(())
+            }
+            Err(e) => {
+                self.s.mode = Mode::Error;
+                Err(step_error(t, h, e))
+            }
+        }
+    }
+
+    /// Logs stop and stick/slip transitions under logEvents (kept out of fmi2DoStep's code).
+    #[cold]
+    #[inline(never)]
+    fn log_transitions(&self, before: &State, after: &State) {
+        for k in 0..6 {
+            let (s0, s1) = (before.stop_status[k], after.stop_status[k]);
+            if s0 != s1 {
+                let what = |s: i8| match s {
+                    -1 => "at the lower stop",
+                    1 => "at the upper stop",
+                    _ => "free",
+                };
+                self.log(
+                    Level::Ok,
+                    Category::Events,
+                    &format!(
+                        "t = {}: component {} {} (was {})",
+                        self.s.time,
+                        k + 1,
+                        what(s1),
+                        what(s0)
+                    ),
+                );
+            }
+        }
+        let pairs = [
+            ("sliding", before.friction.status, after.friction.status),
+            ("spin", before.friction.status_r1, after.friction.status_r1),
+        ];
+        for (what, s0, s1) in pairs {
+            if s0 != s1 {
+                self.log(
+                    Level::Ok,
+                    Category::Events,
+                    &format!(
+                        "t = {}: {what} friction {:?} (was {:?})",
+                        self.s.time, s1, s0
+                    ),
+                );
+            }
+        }
+    }
+
+    /// fmi2GetRealStatus (fmi2LastSuccessfulTime).
+    pub fn last_successful_time(&self) -> FmuResult<Real> {
+        self.allowed(Call::Status, "fmi2GetRealStatus")?;
+        Ok(self.s.time)
+    }
+
+    /// fmi2GetBooleanStatus (fmi2Terminated): the slave never asks to terminate.
+    pub fn terminated_status(&self) -> FmuResult<bool> {
+        self.allowed(Call::Status, "fmi2GetBooleanStatus")?;
+        Ok(false)
+    }
+}
+
+/// The message of a refused fmi2DoStep(t, h) (off the hot path).
+#[cold]
+#[inline(never)]
+fn step_error(t: Real, h: Real, e: StepError) -> FmuError {
+    const F: &str = "fmi2DoStep";
+    FmuError::error(match e {
+        StepError::Singular(s, tau) => format!(
+            "{F}: at t = {:?}: {}; the state at t = {t:?} is kept (fmi2Reset or fmi2SetFMUstate recovers)",
+            t + tau,
+            singular_text(s)
+        ),
+        StepError::NotFinite(tau) => format!(
+            "{F}: at t = {:?}: an output would not be finite; the state at t = {t:?} is kept",
+            t + tau
+        ),
+        StepError::TooManySubsteps(n) => format!(
+            "{F}: the step h = {h:?} would need {n:e} internal substeps (more than {}); use a smaller step or a larger cosim.maxSubstep",
+            crate::physics::step::MAX_SUBSTEPS
+        ),
+    })
+}

@@ -1,0 +1,285 @@
+//! Between the variable table and the data: what a value reference reads or writes in the
+//! parameters, the node inputs and the outputs, with the table's checks. Also the raw node
+//! inputs as physics nodes and back.
+
+use super::snapshot::NodeInputs;
+use super::variables::{CompOut, CompPar, Field, FrictionField, ScalarPar, Start, VarSpec};
+use crate::error::{FmuError, FmuResult};
+use crate::physics::connector::{Extrapolation, Outputs, Params};
+use crate::physics::kinematics::Node;
+use crate::physics::math::{quat_from_wxyz, Real, Vec3};
+
+/// FMI base types, for the type check of get/set calls.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Ty {
+    /// fmi2Real
+    Real,
+    /// fmi2Integer
+    Integer,
+    /// fmi2Boolean
+    Boolean,
+}
+
+impl Ty {
+    /// The type of a variable from its start.
+    pub fn of(s: &Start) -> Ty {
+        match s {
+            Start::Real(_) => Ty::Real,
+            Start::Integer(_) => Ty::Integer,
+            Start::Boolean(_) => Ty::Boolean,
+        }
+    }
+}
+
+/// The nodes from raw inputs (quaternions normalised; a bad one is refused).
+pub fn nodes_of(inputs: &[NodeInputs; 2]) -> FmuResult<(Node, Node)> {
+    let mut out = [Node::default(); 2];
+    for (n, node) in out.iter_mut().enumerate() {
+        let u = &inputs[n];
+        let q = quat_from_wxyz(u[3], u[4], u[5], u[6]).ok_or_else(|| {
+                let nm = ["a", "b"][n];
+                FmuError::error(format!(
+                    "orientation {nm}.q = ({:?}, {:?}, {:?}, {:?}) is not a rotation: its norm is below 1e-6 or not finite",
+                    u[3], u[4], u[5], u[6]
+                ))
+            })?;
+        *node = Node {
+            r: Vec3::new(u[0], u[1], u[2]),
+            q,
+            v: Vec3::new(u[7], u[8], u[9]),
+            w: Vec3::new(u[10], u[11], u[12]),
+        };
+    }
+    Ok((out[0], out[1]))
+}
+
+/// Writes an extrapolated node back into the inputs.
+pub fn write_node(u: &mut NodeInputs, n: &Node) {
+    let q = n.q.quaternion();
+    *u = [
+        n.r.x, n.r.y, n.r.z, q.w, q.i, q.j, q.k, n.v.x, n.v.y, n.v.z, n.w.x, n.w.y, n.w.z,
+    ];
+}
+
+/// The node loads side by side, indexed by `RealSlot::Load`: fa, ma, fb, mb.
+#[inline]
+pub fn node_loads(o: &Outputs) -> [Real; 12] {
+    let (fa, ma, fb, mb) = (o.fa, o.ma, o.fb, o.mb);
+    [
+        fa.x, fa.y, fa.z, ma.x, ma.y, ma.z, fb.x, fb.y, fb.z, mb.x, mb.y, mb.z,
+    ]
+}
+
+/// Writes a Real value into parameters or inputs after checking it.
+pub fn write_real(
+    p: &mut Params,
+    u: &mut [NodeInputs; 2],
+    v: &VarSpec,
+    x: Real,
+) -> Result<(), &'static str> {
+    let finite = |x: Real| {
+        if x.is_finite() {
+            Ok(x)
+        } else {
+            Err("is not finite")
+        }
+    };
+    let nonneg = |x: Real| {
+        if !x.is_finite() {
+            Err("is not finite")
+        } else if x < 0.0 {
+            Err("must not be negative")
+        } else {
+            Ok(x)
+        }
+    };
+    match v.field {
+        Field::Input { node, idx } => u[node as usize][idx as usize] = finite(x)?,
+        Field::CompParam { par, k } => {
+            let k = k as usize;
+            match par {
+                CompPar::Stiffness => p.k[k] = nonneg(x)?,
+                CompPar::Damping => p.c[k] = nonneg(x)?,
+                CompPar::RefValue => p.ref_value[k] = finite(x)?,
+                CompPar::StopLower | CompPar::StopUpper => {
+                    if x.is_nan() {
+                        return Err("is NaN");
+                    }
+                    if par == CompPar::StopLower {
+                        p.stop_lower[k] = x
+                    } else {
+                        p.stop_upper[k] = x
+                    }
+                }
+                CompPar::RefGiven => return Err("is not a Real"),
+            }
+        }
+        Field::Param(s) => {
+            use ScalarPar::*;
+            let fr = &mut p.friction;
+            match s {
+                StopK => p.stop.k = nonneg(x)?,
+                StopC => p.stop.c = nonneg(x)?,
+                StopKr => p.stop.k_rot = nonneg(x)?,
+                StopCr => p.stop.c_rot = nonneg(x)?,
+                ConK => p.constraint.k = nonneg(x)?,
+                ConC => p.constraint.c = nonneg(x)?,
+                ConKr => p.constraint.k_rot = nonneg(x)?,
+                ConCr => p.constraint.c_rot = nonneg(x)?,
+                MuS => fr.mu_static = nonneg(x)?,
+                MuK => fr.mu_kinetic = nonneg(x)?,
+                Decay => fr.decay = nonneg(x)?,
+                Radius => fr.radius = nonneg(x)?,
+                Fint => fr.f_int = finite(x)?,
+                Mint => fr.m_int = finite(x)?,
+                StickK | StickKr => {
+                    let v = nonneg(x)?;
+                    if v == 0.0 {
+                        return Err("must be > 0");
+                    }
+                    if s == StickK {
+                        fr.k_stick = v
+                    } else {
+                        fr.k_stick_r1 = v
+                    }
+                }
+                StickC => fr.c_stick = nonneg(x)?,
+                StickCr => fr.c_stick_r1 = nonneg(x)?,
+                MaxForce => {
+                    if x.is_nan() || x < 0.0 {
+                        return Err("must be >= 0 (+INF: no cap)");
+                    }
+                    fr.max_force = x
+                }
+                MaxSubstep => p.max_substep = nonneg(x)?,
+                Coupling | Extrapolation => return Err("is not a Real"),
+            }
+        }
+        _ => return Err("cannot be set"),
+    }
+    Ok(())
+}
+
+/// Writes an Integer parameter after checking it.
+pub fn write_int(p: &mut Params, v: &VarSpec, x: i32) -> Result<(), &'static str> {
+    match v.field {
+        Field::Param(ScalarPar::Coupling) => match x {
+            0 | 1 => p.friction.coupling = x,
+            _ => return Err("must be 0 or 1"),
+        },
+        Field::Param(ScalarPar::Extrapolation) => {
+            p.extrapolation = match x {
+                0 => Extrapolation::Hold,
+                1 => Extrapolation::Linear,
+                _ => return Err("must be 0 (hold) or 1 (linear)"),
+            }
+        }
+        _ => return Err("is not an Integer"),
+    }
+    Ok(())
+}
+
+/// A Real parameter's value.
+pub fn read_real_param(p: &Params, f: Field) -> Real {
+    use ScalarPar::*;
+    let fr = &p.friction;
+    match f {
+        Field::CompParam { par, k } => {
+            let k = k as usize;
+            match par {
+                CompPar::Stiffness => p.k[k],
+                CompPar::Damping => p.c[k],
+                CompPar::RefValue => p.ref_value[k],
+                CompPar::StopLower => p.stop_lower[k],
+                CompPar::StopUpper => p.stop_upper[k],
+                CompPar::RefGiven => 0.0,
+            }
+        }
+        Field::Param(s) => match s {
+            StopK => p.stop.k,
+            StopC => p.stop.c,
+            StopKr => p.stop.k_rot,
+            StopCr => p.stop.c_rot,
+            ConK => p.constraint.k,
+            ConC => p.constraint.c,
+            ConKr => p.constraint.k_rot,
+            ConCr => p.constraint.c_rot,
+            MuS => fr.mu_static,
+            MuK => fr.mu_kinetic,
+            Decay => fr.decay,
+            Radius => fr.radius,
+            Fint => fr.f_int,
+            Mint => fr.m_int,
+            StickK => fr.k_stick,
+            StickKr => fr.k_stick_r1,
+            StickC => fr.c_stick,
+            StickCr => fr.c_stick_r1,
+            MaxForce => fr.max_force,
+            MaxSubstep => p.max_substep,
+            Coupling | Extrapolation => 0.0,
+        },
+        _ => 0.0,
+    }
+}
+
+/// An Integer parameter's value.
+pub fn read_int_param(p: &Params, f: Field) -> i32 {
+    match f {
+        Field::Param(ScalarPar::Coupling) => p.friction.coupling,
+        Field::Param(ScalarPar::Extrapolation) => match p.extrapolation {
+            Extrapolation::Hold => 0,
+            Extrapolation::Linear => 1,
+        },
+        _ => 0,
+    }
+}
+
+/// Node load 3·which + i: fa, ma, fb, mb.
+#[inline]
+fn load(o: &Outputs, j: u8) -> Real {
+    let v = match j / 3 {
+        0 => &o.fa,
+        1 => &o.ma,
+        2 => &o.fb,
+        _ => &o.mb,
+    };
+    v[(j % 3) as usize]
+}
+
+/// A Real output's value.
+pub fn read_output(o: &Outputs, f: Field) -> Real {
+    match f {
+        Field::Load { which, i } => load(o, 3 * which + i),
+        Field::Comp { out, k } => {
+            let k = k as usize;
+            match out {
+                CompOut::Position => o.cp[k],
+                CompOut::Motion => o.cu[k],
+                CompOut::Velocity => o.cv[k],
+                CompOut::Total => o.ctf[k],
+                CompOut::Elastic => o.cef[k],
+                CompOut::Viscous => o.cvf[k],
+                CompOut::Friction => o.csf[k],
+                CompOut::Reaction => o.crf[k],
+            }
+        }
+        Field::Friction(ff) => {
+            let fr = &o.friction;
+            match ff {
+                FrictionField::Cnf => fr.cnf,
+                FrictionField::Cnm1 => fr.cnm1,
+                FrictionField::Csfc => fr.csfc,
+                FrictionField::Csmc1 => fr.csmc1,
+                FrictionField::Slip => fr.slip,
+                FrictionField::SlipR1 => fr.slip_r1,
+                FrictionField::Status => fr.status as i32 as Real,
+                FrictionField::StatusR1 => fr.status_r1 as i32 as Real,
+            }
+        }
+        Field::Energy(i) => {
+            let e = &o.energy;
+            [e.stored, e.damping, e.friction, e.stops][i as usize]
+        }
+        _ => 0.0,
+    }
+}

@@ -1,0 +1,85 @@
+//! The instance's data: everything that influences the future (`fmi2GetFMUstate` copies it),
+//! with the start values of a variant's table.
+
+use super::access::{write_int, write_real};
+use super::variables::{Start, Table, Variant};
+use crate::physics::connector::{Params, State};
+use crate::physics::math::Real;
+
+/// Where the instance is in the FMI 2.0 Co-Simulation state machine.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// After fmi2Instantiate / fmi2Reset.
+    Instantiated = 1,
+    /// Between fmi2EnterInitializationMode and fmi2ExitInitializationMode.
+    InitializationMode = 2,
+    /// Ready for fmi2DoStep.
+    StepComplete = 4,
+    /// A step returned fmi2Discard.
+    StepFailed = 8,
+    /// A step was cancelled (never: steps are synchronous).
+    StepCanceled = 16,
+    /// After fmi2Terminate.
+    Terminated = 32,
+    /// After an fmi2Error from fmi2DoStep or fmi2ExitInitializationMode.
+    Error = 64,
+    /// After a caught panic: only fmi2FreeInstance is left.
+    Fatal = 128,
+}
+
+/// Node inputs as set (raw, before normalisation): r(3), q(4: w x y z), v(3), ω(3).
+pub type NodeInputs = [Real; 13];
+
+/// Everything that influences the future; `fmi2GetFMUstate` copies it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Snapshot {
+    /// The variant the state belongs to.
+    pub variant: Variant,
+    /// State-machine mode.
+    pub mode: Mode,
+    /// Current time (s).
+    pub time: Real,
+    /// Start time from fmi2SetupExperiment.
+    pub start_time: Real,
+    /// Parameters.
+    pub params: Params,
+    /// Node inputs a, b.
+    pub inputs: [NodeInputs; 2],
+    /// First-order input derivatives (valid for the next step) and which are set.
+    pub input_der: [NodeInputs; 2],
+    /// Which input derivatives are set.
+    pub input_der_set: [[bool; 13]; 2],
+    /// Committed connector state.
+    pub state: State,
+}
+
+impl Snapshot {
+    /// The start: start values of the table, nodes at the origin with identity orientation,
+    /// in Mode::Instantiated.
+    pub fn start(t: &Table) -> Snapshot {
+        let mut params = Params::default();
+        let mut inputs = [[0.0; 13]; 2];
+        for v in &t.vars {
+            if let Start::Real(Some(x)) = v.start {
+                let _ = write_real(&mut params, &mut inputs, v, x);
+            }
+            if let Start::Integer(Some(x)) = v.start {
+                let _ = write_int(&mut params, v, x);
+            }
+        }
+        // nodes rest at the origin with identity orientation until inputs say otherwise
+        inputs[0][3] = 1.0;
+        inputs[1][3] = 1.0;
+        Snapshot {
+            variant: t.spec.variant,
+            mode: Mode::Instantiated,
+            time: 0.0,
+            start_time: 0.0,
+            params,
+            inputs,
+            input_der: [[0.0; 13]; 2],
+            input_der_set: [[false; 13]; 2],
+            state: State::default(),
+        }
+    }
+}
