@@ -90,8 +90,8 @@ macro_rules! instance {
     };
     ($c:expr, $fname:expr, $call:expr) => {{
         let inst = instance!($c, $fname);
-        if let Err(e) = inst.allowed($call, $fname) {
-            return $crate::fmi2::boundary::ToStatus::to_status(Err::<(), _>(e), inst);
+        if let Err(e) = inst.allowed($call) {
+            return $crate::fmi2::boundary::ToStatus::to_status(Err::<(), _>(e), inst, $fname);
         }
         inst
     }};
@@ -137,51 +137,53 @@ pub(crate) fn trace(inst: &ModelInstance, fname: &str) {
     }
 }
 
-/// The one mapping of an instance-layer result to `fmi2Status`; the error is logged once.
+/// The one mapping of an instance-layer result to `fmi2Status`; the error is logged once,
+/// its message led by the name of the FMI function (`fname`) that answers it.
 pub(crate) trait ToStatus {
     /// Logs a non-OK outcome through the instance and returns its status.
-    fn to_status(self, inst: &mut ModelInstance) -> fmi2Status;
+    fn to_status(self, inst: &mut ModelInstance, fname: &str) -> fmi2Status;
 }
 
 impl ToStatus for FmuResult<()> {
-    fn to_status(self, inst: &mut ModelInstance) -> fmi2Status {
-        match inst.report(self) {
+    fn to_status(self, inst: &mut ModelInstance, fname: &str) -> fmi2Status {
+        match self {
             Ok(()) => fmi2Status::OK,
-            Err(e) => e.level.into(),
+            Err(e) => {
+                inst.log(e.level, e.category(), &format!("{fname}: {}", e.message));
+                e.level.into()
+            }
         }
     }
 }
 
-fn null_error(fname: &str, what: &str, n: usize) -> FmuError {
+fn null_error(what: &str, n: usize) -> FmuError {
     FmuError::error(format!(
-        "{fname}: argument {what} is NULL but {n} elements were announced"
+        "argument {what} is NULL but {n} elements were announced"
     ))
 }
 
 /// Checks what `from_raw_parts` needs: non-NULL, alignment and a sane total size.
 #[inline]
-fn check_array<T>(p: *const T, n: usize, what: &str, fname: &str) -> FmuResult<()> {
+fn check_array<T>(p: *const T, n: usize, what: &str) -> FmuResult<()> {
     if !p.is_null() && p.is_aligned() && n <= isize::MAX as usize / std::mem::size_of::<T>().max(1)
     {
         return Ok(());
     }
-    Err(array_error(p, n, what, fname))
+    Err(array_error(p, n, what))
 }
 
 /// The error `check_array` reports (off the per-step path).
 #[cold]
 #[inline(never)]
-fn array_error<T>(p: *const T, n: usize, what: &str, fname: &str) -> FmuError {
+fn array_error<T>(p: *const T, n: usize, what: &str) -> FmuError {
     if p.is_null() {
-        null_error(fname, what, n)
+        null_error(what, n)
     } else if !p.is_aligned() {
         FmuError::error(format!(
-            "{fname}: argument {what} is not aligned for its element type"
+            "argument {what} is not aligned for its element type"
         ))
     } else {
-        FmuError::error(format!(
-            "{fname}: argument {what} has an impossible length {n}"
-        ))
+        FmuError::error(format!("argument {what} has an impossible length {n}"))
     }
 }
 
@@ -191,16 +193,11 @@ fn array_error<T>(p: *const T, n: usize, what: &str, fname: &str) -> FmuError {
 /// # Safety
 /// A non-NULL `p` points to `n` initialised elements that stay valid and unmodified for `'a`.
 #[inline]
-pub(crate) unsafe fn in_slice<'a, T>(
-    p: *const T,
-    n: usize,
-    what: &str,
-    fname: &str,
-) -> FmuResult<&'a [T]> {
+pub(crate) unsafe fn in_slice<'a, T>(p: *const T, n: usize, what: &str) -> FmuResult<&'a [T]> {
     if n == 0 {
         return Ok(&[]);
     }
-    check_array(p, n, what, fname)?;
+    check_array(p, n, what)?;
     // SAFETY: non-NULL, aligned, size checked; the caller guarantees n valid elements.
     Ok(unsafe { std::slice::from_raw_parts(p, n) })
 }
@@ -210,16 +207,11 @@ pub(crate) unsafe fn in_slice<'a, T>(
 /// # Safety
 /// A non-NULL `p` points to `n` writable elements, not aliased by anything else, for `'a`.
 #[inline]
-pub(crate) unsafe fn out_slice<'a, T>(
-    p: *mut T,
-    n: usize,
-    what: &str,
-    fname: &str,
-) -> FmuResult<&'a mut [T]> {
+pub(crate) unsafe fn out_slice<'a, T>(p: *mut T, n: usize, what: &str) -> FmuResult<&'a mut [T]> {
     if n == 0 {
         return Ok(&mut []);
     }
-    check_array(p, n, what, fname)?;
+    check_array(p, n, what)?;
     // SAFETY: non-NULL, aligned, size checked; the caller guarantees n writable elements.
     Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
 }
@@ -232,15 +224,9 @@ pub(crate) unsafe fn get_arrays<'a, V, T>(
     vr: *const V,
     n: usize,
     value: *mut T,
-    fname: &str,
 ) -> FmuResult<(&'a [V], &'a mut [T])> {
     // SAFETY: forwarded contract.
-    unsafe {
-        Ok((
-            in_slice(vr, n, "vr[]", fname)?,
-            out_slice(value, n, "value[]", fname)?,
-        ))
-    }
+    unsafe { Ok((in_slice(vr, n, "vr[]")?, out_slice(value, n, "value[]")?)) }
 }
 
 /// `vr[]` and `value[]` of an fmi2Set* call.
@@ -251,15 +237,9 @@ pub(crate) unsafe fn set_arrays<'a, V, T>(
     vr: *const V,
     n: usize,
     value: *const T,
-    fname: &str,
 ) -> FmuResult<(&'a [V], &'a [T])> {
     // SAFETY: forwarded contract.
-    unsafe {
-        Ok((
-            in_slice(vr, n, "vr[]", fname)?,
-            in_slice(value, n, "value[]", fname)?,
-        ))
-    }
+    unsafe { Ok((in_slice(vr, n, "vr[]")?, in_slice(value, n, "value[]")?)) }
 }
 
 /// `vr[]`, `order[]` and `value[]` of fmi2SetRealInputDerivatives / fmi2GetRealOutputDerivatives.
@@ -271,14 +251,13 @@ pub(crate) unsafe fn derivative_arrays<'a, T: ValueArray<'a>>(
     n: usize,
     order: *const libc::c_int,
     value: T,
-    fname: &str,
 ) -> FmuResult<(&'a [u32], &'a [libc::c_int], T::Slice)> {
     // SAFETY: forwarded contract.
-    let vrs = unsafe { in_slice(vr, n, "vr[]", fname)? };
+    let vrs = unsafe { in_slice(vr, n, "vr[]")? };
     // SAFETY: forwarded contract.
-    let orders = unsafe { in_slice(order, n, "order[]", fname)? };
+    let orders = unsafe { in_slice(order, n, "order[]")? };
     // SAFETY: forwarded contract.
-    let values = unsafe { value.slice(n, "value[]", fname)? };
+    let values = unsafe { value.slice(n, "value[]")? };
     Ok((vrs, orders, values))
 }
 
@@ -290,22 +269,22 @@ pub(crate) trait ValueArray<'a> {
     ///
     /// # Safety
     /// As `in_slice` / `out_slice`.
-    unsafe fn slice(self, n: usize, what: &str, fname: &str) -> FmuResult<Self::Slice>;
+    unsafe fn slice(self, n: usize, what: &str) -> FmuResult<Self::Slice>;
 }
 
 impl<'a, T: 'a> ValueArray<'a> for *const T {
     type Slice = &'a [T];
-    unsafe fn slice(self, n: usize, what: &str, fname: &str) -> FmuResult<&'a [T]> {
+    unsafe fn slice(self, n: usize, what: &str) -> FmuResult<&'a [T]> {
         // SAFETY: forwarded contract.
-        unsafe { in_slice(self, n, what, fname) }
+        unsafe { in_slice(self, n, what) }
     }
 }
 
 impl<'a, T: 'a> ValueArray<'a> for *mut T {
     type Slice = &'a mut [T];
-    unsafe fn slice(self, n: usize, what: &str, fname: &str) -> FmuResult<&'a mut [T]> {
+    unsafe fn slice(self, n: usize, what: &str) -> FmuResult<&'a mut [T]> {
         // SAFETY: forwarded contract.
-        unsafe { out_slice(self, n, what, fname) }
+        unsafe { out_slice(self, n, what) }
     }
 }
 
@@ -332,16 +311,15 @@ pub(crate) unsafe fn directional_arrays<'a>(
     n_known: usize,
     dv_known: *const f64,
     dv_unknown: *mut f64,
-    fname: &str,
 ) -> FmuResult<DirectionalArrays<'a>> {
     // SAFETY: forwarded contract.
-    let unknowns = unsafe { in_slice(v_unknown, n_unknown, "vUnknown_ref[]", fname)? };
+    let unknowns = unsafe { in_slice(v_unknown, n_unknown, "vUnknown_ref[]")? };
     // SAFETY: forwarded contract.
-    let knowns = unsafe { in_slice(v_known, n_known, "vKnown_ref[]", fname)? };
+    let knowns = unsafe { in_slice(v_known, n_known, "vKnown_ref[]")? };
     // SAFETY: forwarded contract.
-    let seed = unsafe { in_slice(dv_known, n_known, "dvKnown[]", fname)? };
+    let seed = unsafe { in_slice(dv_known, n_known, "dvKnown[]")? };
     // SAFETY: forwarded contract.
-    let out = unsafe { out_slice(dv_unknown, n_unknown, "dvUnknown[]", fname)? };
+    let out = unsafe { out_slice(dv_unknown, n_unknown, "dvUnknown[]")? };
     Ok(DirectionalArrays {
         unknowns,
         knowns,
@@ -354,8 +332,8 @@ pub(crate) unsafe fn directional_arrays<'a>(
 ///
 /// # Safety
 /// A non-NULL `p` is valid for writes and not aliased for `'a`.
-pub(crate) unsafe fn out_ref<'a, T>(p: *mut T, what: &str, fname: &str) -> FmuResult<&'a mut T> {
-    check_array(p, 1, what, fname)?;
+pub(crate) unsafe fn out_ref<'a, T>(p: *mut T, what: &str) -> FmuResult<&'a mut T> {
+    check_array(p, 1, what)?;
     // SAFETY: non-NULL and aligned; the caller guarantees it is writable.
     Ok(unsafe { &mut *p })
 }
@@ -364,14 +342,14 @@ pub(crate) unsafe fn out_ref<'a, T>(p: *mut T, what: &str, fname: &str) -> FmuRe
 ///
 /// # Safety
 /// A non-NULL `p` points to a NUL-terminated string valid for `'a`.
-pub(crate) unsafe fn c_str<'a>(p: fmi2String, what: &str, fname: &str) -> FmuResult<&'a str> {
+pub(crate) unsafe fn c_str<'a>(p: fmi2String, what: &str) -> FmuResult<&'a str> {
     if p.is_null() {
-        return Err(FmuError::error(format!("{fname}: argument {what} is NULL")));
+        return Err(FmuError::error(format!("argument {what} is NULL")));
     }
     // SAFETY: non-NULL; the caller guarantees NUL termination and lifetime.
     let s = unsafe { CStr::from_ptr(p) };
     s.to_str()
-        .map_err(|_| FmuError::error(format!("{fname}: argument {what} is not valid UTF-8")))
+        .map_err(|_| FmuError::error(format!("argument {what} is not valid UTF-8")))
 }
 
 /// The snapshot behind an FMU state handle (NULL refused).
@@ -379,11 +357,9 @@ pub(crate) unsafe fn c_str<'a>(p: fmi2String, what: &str, fname: &str) -> FmuRes
 /// # Safety
 /// A non-NULL `state` was created by fmi2GetFMUstate/fmi2DeSerializeFMUstate of this library
 /// and not yet freed.
-pub(crate) unsafe fn state_ref<'a>(state: fmi2FMUstate, fname: &str) -> FmuResult<&'a Snapshot> {
+pub(crate) unsafe fn state_ref<'a>(state: fmi2FMUstate) -> FmuResult<&'a Snapshot> {
     if state.is_null() {
-        return Err(FmuError::error(format!(
-            "{fname}: argument FMUstate is NULL"
-        )));
+        return Err(FmuError::error("argument FMUstate is NULL"));
     }
     // SAFETY: the caller's contract: a live Box<Snapshot> made by `store_state`.
     Ok(unsafe { &*state.cast::<Snapshot>() })
@@ -394,13 +370,9 @@ pub(crate) unsafe fn state_ref<'a>(state: fmi2FMUstate, fname: &str) -> FmuResul
 ///
 /// # Safety
 /// `state` is writable (NULL is refused); a non-NULL `*state` is a live state of this library.
-pub(crate) unsafe fn store_state(
-    state: *mut fmi2FMUstate,
-    snapshot: Snapshot,
-    fname: &str,
-) -> FmuResult<()> {
+pub(crate) unsafe fn store_state(state: *mut fmi2FMUstate, snapshot: Snapshot) -> FmuResult<()> {
     // SAFETY: forwarded contract.
-    let slot = unsafe { out_ref(state, "FMUstate", fname)? };
+    let slot = unsafe { out_ref(state, "FMUstate")? };
     if slot.is_null() {
         *slot = Box::into_raw(Box::new(snapshot)).cast();
     } else {
@@ -444,7 +416,7 @@ pub(crate) unsafe fn instantiate(
     let functions = unsafe { functions.as_ref() }.copied()?;
     let callback = functions.logger?;
     // SAFETY: caller's contract for the C strings.
-    let name = unsafe { c_str(instance_name, "instanceName", F) };
+    let name = unsafe { c_str(instance_name, "instanceName") };
     let logger = CallbackLogger::new(
         callback,
         functions.componentEnvironment,
@@ -453,26 +425,24 @@ pub(crate) unsafe fn instantiate(
     let checked = (|| {
         let name = name?;
         if name.is_empty() {
-            return Err(FmuError::error(format!("{F}: instanceName is empty")));
+            return Err(FmuError::error("instanceName is empty"));
         }
         match fmi2Type::try_from(fmu_type) {
             Ok(fmi2Type::CoSimulation) => {}
             Ok(fmi2Type::ModelExchange) => {
-                return Err(FmuError::error(format!(
-                    "{F}: fmuType fmi2ModelExchange is not supported: this FMU implements Co-Simulation only"
-                )))
+                return Err(FmuError::error("fmuType fmi2ModelExchange is not supported: this FMU implements Co-Simulation only"))
             }
             Err(t) => {
                 return Err(FmuError::error(format!(
-                    "{F}: invalid fmuType {t} (fmi2ModelExchange = 0, fmi2CoSimulation = 1)"
+                    "invalid fmuType {t} (fmi2ModelExchange = 0, fmi2CoSimulation = 1)"
                 )))
             }
         }
         // SAFETY: caller's contract for the C strings.
-        let guid = unsafe { c_str(guid, "fmuGUID", F) }?;
+        let guid = unsafe { c_str(guid, "fmuGUID") }?;
         let variant = variant_by_guid(guid).ok_or_else(|| {
             FmuError::error(format!(
-                "{F}: fmuGUID \"{guid}\" matches no model of this binary (modelDescription.xml and binary from different builds?)"
+                "fmuGUID \"{guid}\" matches no model of this binary (modelDescription.xml and binary from different builds?)"
             ))
         })?;
         Ok((variant, name))
@@ -484,7 +454,7 @@ pub(crate) unsafe fn instantiate(
             Some(inst)
         }
         Err(e) => {
-            logger.log(e.level, e.category(), &e.message);
+            logger.log(e.level, e.category(), &format!("{F}: {}", e.message));
             None
         }
     }
@@ -498,97 +468,14 @@ pub(crate) unsafe fn c_str_array<'a>(
     p: *const fmi2String,
     n: usize,
     what: &str,
-    fname: &str,
 ) -> FmuResult<Vec<&'a str>> {
     // SAFETY: forwarded contract.
-    let ptrs = unsafe { in_slice(p, n, what, fname)? };
+    let ptrs = unsafe { in_slice(p, n, what)? };
     ptrs.iter()
         .enumerate()
         // SAFETY: forwarded contract for each element.
-        .map(|(i, &s)| unsafe { c_str(s, &format!("{what}[{i}]"), fname) })
+        .map(|(i, &s)| unsafe { c_str(s, &format!("{what}[{i}]")) })
         .collect()
-}
-
-/// fmi2GetBoolean through a `bool` buffer: `value[]` is written only on success.
-pub(crate) fn get_booleans(
-    inst: &mut ModelInstance,
-    vrs: &[u32],
-    out: &mut [libc::c_int],
-) -> FmuResult<()> {
-    let mut b = vec![false; vrs.len()];
-    inst.get_boolean(vrs, &mut b)?;
-    for (o, x) in out.iter_mut().zip(b) {
-        *o = libc::c_int::from(x);
-    }
-    Ok(())
-}
-
-/// fmi2SetBoolean: any non-zero fmi2Boolean is true (never a cast to `bool`).
-pub(crate) fn set_booleans(
-    inst: &mut ModelInstance,
-    vrs: &[u32],
-    values: &[libc::c_int],
-) -> FmuResult<()> {
-    let b: Vec<bool> = values.iter().map(|&x| x != 0).collect();
-    inst.set_boolean(vrs, &b)
-}
-
-/// fmi2SerializeFMUstate into the caller's buffer (which must be large enough).
-pub(crate) fn copy_serialized(
-    inst: &ModelInstance,
-    s: &Snapshot,
-    buf: &mut [u8],
-    fname: &str,
-) -> FmuResult<()> {
-    inst.own_state(s, fname)?;
-    let bytes = inst.serialize(s);
-    let size = buf.len();
-    let dst = buf.get_mut(..bytes.len()).ok_or_else(|| {
-        FmuError::error(format!(
-            "{fname}: size {size} is smaller than the serialized state ({} bytes, see fmi2SerializedFMUstateSize)",
-            bytes.len()
-        ))
-    })?;
-    dst.copy_from_slice(&bytes);
-    Ok(())
-}
-
-/// The answer for status kinds this FMU does not provide (or that do not exist).
-pub(crate) fn unsupported_status(kind: libc::c_int, fname: &str) -> FmuResult<()> {
-    match super::types::fmi2StatusKind::try_from(kind) {
-        Ok(k) => Err(FmuError::discard(format!(
-            "{fname}: status kind {} is not provided (fmi2DoStep is synchronous; only fmi2LastSuccessfulTime \
-             through fmi2GetRealStatus and fmi2Terminated through fmi2GetBooleanStatus are)",
-            k.name()
-        ))),
-        Err(k) => Err(FmuError::error(format!("{fname}: unknown fmi2StatusKind {k}"))),
-    }
-}
-
-/// Ok when `kind` is the one kind a fmi2Get*Status function provides (its instance method
-/// checks the state); otherwise the state check and the answer for an unprovided kind.
-pub(crate) fn provided_kind(
-    inst: &ModelInstance,
-    kind: libc::c_int,
-    provided: super::types::fmi2StatusKind,
-    fname: &str,
-) -> FmuResult<()> {
-    if super::types::fmi2StatusKind::try_from(kind) == Ok(provided) {
-        return Ok(());
-    }
-    inst.allowed(crate::instance::Call::Status, fname)?;
-    unsupported_status(kind, fname)
-}
-
-/// fmi2GetRealOutputDerivatives: nothing to provide (MaxOutputDerivativeOrder = 0); an empty
-/// request is answered with OK.
-pub(crate) fn no_output_derivatives(vrs: &[u32], fname: &str) -> FmuResult<()> {
-    match vrs.first() {
-        None => Ok(()),
-        Some(vr) => Err(FmuError::error(format!(
-            "{fname}: no output derivatives (MaxOutputDerivativeOrder = 0), asked for vr {vr}"
-        ))),
-    }
 }
 
 #[cfg(test)]

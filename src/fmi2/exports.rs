@@ -11,10 +11,13 @@
 #![allow(clippy::not_unsafe_ptr_arg_deref)]
 
 use super::boundary::{
-    c_str_array, copy_serialized, derivative_arrays, directional_arrays, free_state, get_arrays,
-    get_booleans, in_slice, instance_mut, instantiate, no_output_derivatives, out_ref, out_slice,
-    provided_kind, set_arrays, set_booleans, state_ref, store_state, trace, unsupported_status,
+    c_str_array, derivative_arrays, directional_arrays, free_state, get_arrays, in_slice,
+    instance_mut, instantiate, out_ref, out_slice, set_arrays, state_ref, store_state, trace,
     ToStatus,
+};
+use super::policy::{
+    copy_serialized, get_booleans, no_output_derivatives, provided_kind, set_booleans,
+    unsupported_status,
 };
 use super::types::{
     fmi2Boolean, fmi2Byte, fmi2CallbackFunctions, fmi2Component, fmi2FMUstate, fmi2Integer,
@@ -50,10 +53,10 @@ pub extern "C" fn fmi2SetDebugLogging(
     ffi_boundary!(c, F, {
         let inst = instance!(c, F, Call::Lifecycle);
         // SAFETY: categories holds nCategories C strings (FMI 2.0 §2.1.5); NULLs are refused.
-        let names = unsafe { c_str_array(categories, nCategories, "categories", F) };
+        let names = unsafe { c_str_array(categories, nCategories, "categories") };
         names
             .and_then(|n| inst.set_debug_logging(loggingOn != 0, &n))
-            .to_status(inst)
+            .to_status(inst, F)
     })
 }
 
@@ -105,7 +108,7 @@ pub extern "C" fn fmi2SetupExperiment(
     ffi_boundary!(c, F, {
         let inst = instance!(c, F);
         let stop = (stopTimeDefined != 0).then_some(stopTime);
-        inst.setup_experiment(startTime, stop).to_status(inst)
+        inst.setup_experiment(startTime, stop).to_status(inst, F)
     })
 }
 
@@ -115,7 +118,7 @@ pub extern "C" fn fmi2EnterInitializationMode(c: fmi2Component) -> fmi2Status {
     const F: &str = "fmi2EnterInitializationMode";
     ffi_boundary!(c, F, {
         let inst = instance!(c, F);
-        inst.enter_initialization_mode().to_status(inst)
+        inst.enter_initialization_mode().to_status(inst, F)
     })
 }
 
@@ -125,7 +128,7 @@ pub extern "C" fn fmi2ExitInitializationMode(c: fmi2Component) -> fmi2Status {
     const F: &str = "fmi2ExitInitializationMode";
     ffi_boundary!(c, F, {
         let inst = instance!(c, F);
-        inst.exit_initialization_mode().to_status(inst)
+        inst.exit_initialization_mode().to_status(inst, F)
     })
 }
 
@@ -135,7 +138,7 @@ pub extern "C" fn fmi2Terminate(c: fmi2Component) -> fmi2Status {
     const F: &str = "fmi2Terminate";
     ffi_boundary!(c, F, {
         let inst = instance!(c, F);
-        inst.terminate().to_status(inst)
+        inst.terminate().to_status(inst, F)
     })
 }
 
@@ -145,7 +148,7 @@ pub extern "C" fn fmi2Reset(c: fmi2Component) -> fmi2Status {
     const F: &str = "fmi2Reset";
     ffi_boundary!(c, F, {
         let inst = instance!(c, F);
-        inst.reset().to_status(inst)
+        inst.reset().to_status(inst, F)
     })
 }
 
@@ -161,10 +164,10 @@ pub extern "C" fn fmi2GetReal(
     ffi_boundary!(c, F, {
         let inst = instance!(c, F);
         // SAFETY: vr and value hold nvr elements (FMI 2.0 §2.1.7); NULL with nvr > 0 is refused.
-        let arrays = unsafe { get_arrays(vr, nvr, value, F) };
+        let arrays = unsafe { get_arrays(vr, nvr, value) };
         arrays
             .and_then(|(vrs, out)| inst.get_real(vrs, out))
-            .to_status(inst)
+            .to_status(inst, F)
     })
 }
 
@@ -180,10 +183,10 @@ pub extern "C" fn fmi2GetInteger(
     ffi_boundary!(c, F, {
         let inst = instance!(c, F);
         // SAFETY: vr and value hold nvr elements (FMI 2.0 §2.1.7); NULL with nvr > 0 is refused.
-        let arrays = unsafe { get_arrays(vr, nvr, value, F) };
+        let arrays = unsafe { get_arrays(vr, nvr, value) };
         arrays
             .and_then(|(vrs, out)| inst.get_integer(vrs, out))
-            .to_status(inst)
+            .to_status(inst, F)
     })
 }
 
@@ -199,10 +202,10 @@ pub extern "C" fn fmi2GetBoolean(
     ffi_boundary!(c, F, {
         let inst = instance!(c, F);
         // SAFETY: vr and value hold nvr elements (FMI 2.0 §2.1.7); NULL with nvr > 0 is refused.
-        let arrays = unsafe { get_arrays(vr, nvr, value, F) };
+        let arrays = unsafe { get_arrays(vr, nvr, value) };
         arrays
             .and_then(|(vrs, out)| get_booleans(inst, vrs, out))
-            .to_status(inst)
+            .to_status(inst, F)
     })
 }
 
@@ -218,10 +221,10 @@ pub extern "C" fn fmi2GetString(
     ffi_boundary!(c, F, {
         let inst = instance!(c, F);
         // SAFETY: vr and value hold nvr elements (FMI 2.0 §2.1.7); NULL with nvr > 0 is refused.
-        let arrays = unsafe { get_arrays(vr, nvr, value, F) };
+        let arrays = unsafe { get_arrays(vr, nvr, value) };
         arrays
             .and_then(|(vrs, _)| inst.get_string(vrs))
-            .to_status(inst)
+            .to_status(inst, F)
     })
 }
 
@@ -237,10 +240,10 @@ pub extern "C" fn fmi2SetReal(
     ffi_boundary!(c, F, {
         let inst = instance!(c, F);
         // SAFETY: vr and value hold nvr elements (FMI 2.0 §2.1.7); NULL with nvr > 0 is refused.
-        let arrays = unsafe { set_arrays(vr, nvr, value, F) };
+        let arrays = unsafe { set_arrays(vr, nvr, value) };
         arrays
             .and_then(|(vrs, v)| inst.set_real(vrs, v))
-            .to_status(inst)
+            .to_status(inst, F)
     })
 }
 
@@ -256,10 +259,10 @@ pub extern "C" fn fmi2SetInteger(
     ffi_boundary!(c, F, {
         let inst = instance!(c, F);
         // SAFETY: vr and value hold nvr elements (FMI 2.0 §2.1.7); NULL with nvr > 0 is refused.
-        let arrays = unsafe { set_arrays(vr, nvr, value, F) };
+        let arrays = unsafe { set_arrays(vr, nvr, value) };
         arrays
             .and_then(|(vrs, v)| inst.set_integer(vrs, v))
-            .to_status(inst)
+            .to_status(inst, F)
     })
 }
 
@@ -275,10 +278,10 @@ pub extern "C" fn fmi2SetBoolean(
     ffi_boundary!(c, F, {
         let inst = instance!(c, F);
         // SAFETY: vr and value hold nvr elements (FMI 2.0 §2.1.7); NULL with nvr > 0 is refused.
-        let arrays = unsafe { set_arrays(vr, nvr, value, F) };
+        let arrays = unsafe { set_arrays(vr, nvr, value) };
         arrays
             .and_then(|(vrs, v)| set_booleans(inst, vrs, v))
-            .to_status(inst)
+            .to_status(inst, F)
     })
 }
 
@@ -294,10 +297,10 @@ pub extern "C" fn fmi2SetString(
     ffi_boundary!(c, F, {
         let inst = instance!(c, F);
         // SAFETY: vr and value hold nvr elements (FMI 2.0 §2.1.7); NULL with nvr > 0 is refused.
-        let arrays = unsafe { set_arrays(vr, nvr, value, F) };
+        let arrays = unsafe { set_arrays(vr, nvr, value) };
         arrays
             .and_then(|(vrs, _)| inst.set_string(vrs))
-            .to_status(inst)
+            .to_status(inst, F)
     })
 }
 
@@ -310,8 +313,8 @@ pub extern "C" fn fmi2GetFMUstate(c: fmi2Component, FMUstate: *mut fmi2FMUstate)
         // SAFETY: FMUstate is writable, *FMUstate NULL or a live state of this FMU (FMI 2.0 §2.1.8).
         let stored = inst
             .get_state()
-            .and_then(|s| unsafe { store_state(FMUstate, s, F) });
-        stored.to_status(inst)
+            .and_then(|s| unsafe { store_state(FMUstate, s) });
+        stored.to_status(inst, F)
     })
 }
 
@@ -322,8 +325,8 @@ pub extern "C" fn fmi2SetFMUstate(c: fmi2Component, FMUstate: fmi2FMUstate) -> f
     ffi_boundary!(c, F, {
         let inst = instance!(c, F);
         // SAFETY: a non-NULL FMUstate is a live state of this FMU (FMI 2.0 §2.1.8).
-        let state = unsafe { state_ref(FMUstate, F) };
-        state.and_then(|s| inst.set_state(s)).to_status(inst)
+        let state = unsafe { state_ref(FMUstate) };
+        state.and_then(|s| inst.set_state(s)).to_status(inst, F)
     })
 }
 
@@ -351,11 +354,11 @@ pub extern "C" fn fmi2SerializedFMUstateSize(
     ffi_boundary!(c, F, {
         let inst = instance!(c, F, Call::Lifecycle);
         // SAFETY: FMUstate is NULL (refused) or a live state of this FMU (FMI 2.0 §2.1.8).
-        let state = unsafe { state_ref(FMUstate, F) };
+        let state = unsafe { state_ref(FMUstate) };
         // SAFETY: size is NULL (refused) or writable.
-        let out = unsafe { out_ref(size, "size", F) };
-        let len = state.and_then(|s| inst.own_state(s, F).map(|()| inst.serialize(s).len()));
-        len.and_then(|n| out.map(|o| *o = n)).to_status(inst)
+        let out = unsafe { out_ref(size, "size") };
+        let len = state.and_then(|s| inst.own_state(s).map(|()| inst.serialize(s).len()));
+        len.and_then(|n| out.map(|o| *o = n)).to_status(inst, F)
     })
 }
 
@@ -371,12 +374,12 @@ pub extern "C" fn fmi2SerializeFMUstate(
     ffi_boundary!(c, F, {
         let inst = instance!(c, F, Call::Lifecycle);
         // SAFETY: FMUstate is NULL (refused) or a live state of this FMU (FMI 2.0 §2.1.8).
-        let state = unsafe { state_ref(FMUstate, F) };
+        let state = unsafe { state_ref(FMUstate) };
         // SAFETY: serializedState holds size bytes; NULL with size > 0 is refused.
-        let buf = unsafe { out_slice(serializedState.cast::<u8>(), size, "serializedState", F) };
+        let buf = unsafe { out_slice(serializedState.cast::<u8>(), size, "serializedState") };
         state
-            .and_then(|s| copy_serialized(inst, s, buf?, F))
-            .to_status(inst)
+            .and_then(|s| copy_serialized(inst, s, buf?))
+            .to_status(inst, F)
     })
 }
 
@@ -392,11 +395,11 @@ pub extern "C" fn fmi2DeSerializeFMUstate(
     ffi_boundary!(c, F, {
         let inst = instance!(c, F);
         // SAFETY: serializedState holds size bytes (FMI 2.0 §2.1.8); NULL with size > 0 is refused.
-        let bytes = unsafe { in_slice(serializedState.cast::<u8>(), size, "serializedState", F) };
+        let bytes = unsafe { in_slice(serializedState.cast::<u8>(), size, "serializedState") };
         let snapshot = bytes.and_then(|b| inst.deserialize(b));
         // SAFETY: FMUstate is writable, *FMUstate NULL or a live state of this FMU.
-        let stored = snapshot.and_then(|s| unsafe { store_state(FMUstate, s, F) });
-        stored.to_status(inst)
+        let stored = snapshot.and_then(|s| unsafe { store_state(FMUstate, s) });
+        stored.to_status(inst, F)
     })
 }
 
@@ -423,11 +426,10 @@ pub extern "C" fn fmi2GetDirectionalDerivative(
                 nKnown,
                 dvKnown,
                 dvUnknown,
-                F,
             )
         };
         args.and_then(|a| inst.directional_derivative(a.unknowns, a.knowns, a.seed, a.out))
-            .to_status(inst)
+            .to_status(inst, F)
     })
 }
 
@@ -446,9 +448,9 @@ pub extern "C" fn fmi2SetRealInputDerivatives(
     ffi_boundary!(c, F, {
         let inst = instance!(c, F);
         // SAFETY: vr, order and value hold nvr elements each (FMI 2.0 §4.2.1).
-        let args = unsafe { derivative_arrays(vr, nvr, order, value, F) };
+        let args = unsafe { derivative_arrays(vr, nvr, order, value) };
         args.and_then(|(v, o, x)| inst.set_real_input_derivatives(v, o, x))
-            .to_status(inst)
+            .to_status(inst, F)
     })
 }
 
@@ -465,9 +467,9 @@ pub extern "C" fn fmi2GetRealOutputDerivatives(
     ffi_boundary!(c, F, {
         let inst = instance!(c, F, Call::OutputDerivatives);
         // SAFETY: vr, order and value hold nvr elements each (FMI 2.0 §4.2.1).
-        let args = unsafe { derivative_arrays(vr, nvr, order, value, F) };
-        args.and_then(|(v, _, _)| no_output_derivatives(v, F))
-            .to_status(inst)
+        let args = unsafe { derivative_arrays(vr, nvr, order, value) };
+        args.and_then(|(v, _, _)| no_output_derivatives(v))
+            .to_status(inst, F)
     })
 }
 
@@ -483,7 +485,7 @@ pub extern "C" fn fmi2DoStep(
     ffi_boundary!(c, F, {
         let inst = instance!(c, F);
         inst.do_step(currentCommunicationPoint, communicationStepSize)
-            .to_status(inst)
+            .to_status(inst, F)
     })
 }
 
@@ -496,7 +498,7 @@ pub extern "C" fn fmi2CancelStep(c: fmi2Component) -> fmi2Status {
         let why = format!(
             "{F}: no step is in progress (fmi2DoStep is synchronous and never returns fmi2Pending)"
         );
-        Err(FmuError::error(why)).to_status(inst)
+        Err(FmuError::error(why)).to_status(inst, F)
     })
 }
 
@@ -507,8 +509,8 @@ pub extern "C" fn fmi2GetStatus(c: fmi2Component, s: c_int, value: *mut fmi2Stat
     ffi_boundary!(c, F, {
         let inst = instance!(c, F, Call::Status);
         // SAFETY: value is NULL (refused) or writable (FMI 2.0 §4.2.3).
-        let out = unsafe { out_ref(value, "value", F) };
-        out.and_then(|_| unsupported_status(s, F)).to_status(inst)
+        let out = unsafe { out_ref(value, "value") };
+        out.and_then(|_| unsupported_status(s)).to_status(inst, F)
     })
 }
 
@@ -523,12 +525,12 @@ pub extern "C" fn fmi2GetRealStatus(
     ffi_boundary!(c, F, {
         let inst = instance!(c, F);
         // SAFETY: value is NULL (refused) or writable (FMI 2.0 §4.2.3).
-        let out = unsafe { out_ref(value, "value", F) };
+        let out = unsafe { out_ref(value, "value") };
         let r = out.and_then(|v| {
-            provided_kind(inst, s, fmi2StatusKind::LastSuccessfulTime, F)?;
+            provided_kind(inst, s, fmi2StatusKind::LastSuccessfulTime)?;
             inst.last_successful_time().map(|t| *v = t)
         });
-        r.to_status(inst)
+        r.to_status(inst, F)
     })
 }
 
@@ -543,8 +545,8 @@ pub extern "C" fn fmi2GetIntegerStatus(
     ffi_boundary!(c, F, {
         let inst = instance!(c, F, Call::Status);
         // SAFETY: value is NULL (refused) or writable (FMI 2.0 §4.2.3).
-        let out = unsafe { out_ref(value, "value", F) };
-        out.and_then(|_| unsupported_status(s, F)).to_status(inst)
+        let out = unsafe { out_ref(value, "value") };
+        out.and_then(|_| unsupported_status(s)).to_status(inst, F)
     })
 }
 
@@ -559,12 +561,12 @@ pub extern "C" fn fmi2GetBooleanStatus(
     ffi_boundary!(c, F, {
         let inst = instance!(c, F);
         // SAFETY: value is NULL (refused) or writable (FMI 2.0 §4.2.3).
-        let out = unsafe { out_ref(value, "value", F) };
+        let out = unsafe { out_ref(value, "value") };
         let r = out.and_then(|v| {
-            provided_kind(inst, s, fmi2StatusKind::Terminated, F)?;
+            provided_kind(inst, s, fmi2StatusKind::Terminated)?;
             inst.terminated_status().map(|b| *v = fmi2Boolean::from(b))
         });
-        r.to_status(inst)
+        r.to_status(inst, F)
     })
 }
 
@@ -579,7 +581,7 @@ pub extern "C" fn fmi2GetStringStatus(
     ffi_boundary!(c, F, {
         let inst = instance!(c, F, Call::Status);
         // SAFETY: value is NULL (refused) or writable (FMI 2.0 §4.2.3).
-        let out = unsafe { out_ref(value, "value", F) };
-        out.and_then(|_| unsupported_status(s, F)).to_status(inst)
+        let out = unsafe { out_ref(value, "value") };
+        out.and_then(|_| unsupported_status(s)).to_status(inst, F)
     })
 }

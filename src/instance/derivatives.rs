@@ -15,15 +15,14 @@ impl ModelInstance {
         orders: &[i32],
         values: &[Real],
     ) -> FmuResult<()> {
-        const F: &str = "fmi2SetRealInputDerivatives";
-        self.allowed(Call::Set, F)?;
+        self.allowed(Call::Set)?;
         let mut der = self.s.input_der;
         let mut set = self.s.input_der_set;
         for ((&vr, &order), &x) in vrs.iter().zip(orders).zip(values) {
-            let (node, idx) = self.finite_input(vr, x, "derivative", F)?;
+            let (node, idx) = self.finite_input(vr, x, "derivative")?;
             if order != 1 {
                 return Err(FmuError::error(format!(
-                    "{F}: derivative order {order} of {} is not supported (only 1); not set",
+                    "derivative order {order} of {} is not supported (only 1); not set",
                     self.table.get(vr).map_or("?", |v| v.name.as_str())
                 )));
             }
@@ -55,13 +54,12 @@ impl ModelInstance {
         dknown: &[Real],
         out: &mut [Real],
     ) -> FmuResult<()> {
-        const F: &str = "fmi2GetDirectionalDerivative";
-        self.allowed(Call::Get, F)?;
+        self.allowed(Call::Get)?;
         for &vr in unknowns {
-            let v = self.var(vr, Ty::Real, F)?;
+            let v = self.var(vr, Ty::Real)?;
             if v.causality != Causality::Output || v.variability != Variability::Continuous {
                 return Err(FmuError::error(format!(
-                    "{F}: unknown {} is not a continuous Real output",
+                    "unknown {} is not a continuous Real output",
                     v.name
                 )));
             }
@@ -69,7 +67,7 @@ impl ModelInstance {
         let mut scale: Real = 1.0;
         let mut dmax: Real = 0.0;
         for (&vr, &d) in knowns.iter().zip(dknown) {
-            let (node, idx) = self.finite_input(vr, d, "seed", F)?;
+            let (node, idx) = self.finite_input(vr, d, "seed")?;
             scale = scale.max(self.s.inputs[node][idx].abs());
             dmax = dmax.max(d.abs());
         }
@@ -81,7 +79,7 @@ impl ModelInstance {
         // neither huge nor denormal seeds make ε overflow or underflow (regression 003)
         let eps = 1e-8 * scale;
         // effects slipping at the current inputs are differentiated on their slip branch
-        let here = self.outputs(F)?.friction;
+        let here = self.outputs()?.friction;
         let mode = Eval::Tangent([here.status == Status::Slip, here.status_r1 == Status::Slip]);
         let shifted = |sign: Real| {
             let mut u = self.s.inputs;
@@ -92,15 +90,15 @@ impl ModelInstance {
             }
             u
         };
-        let plus = self.evaluate_at(&shifted(1.0), mode, F)?;
-        let minus = self.evaluate_at(&shifted(-1.0), mode, F)?;
+        let plus = self.evaluate_at(&shifted(1.0), mode)?;
+        let minus = self.evaluate_at(&shifted(-1.0), mode)?;
         for (&vr, slot) in unknowns.iter().zip(out.iter_mut()) {
-            let v = self.var(vr, Ty::Real, F)?;
+            let v = self.var(vr, Ty::Real)?;
             let d =
                 dmax * ((read_output(&plus, v.field) - read_output(&minus, v.field)) / (2.0 * eps));
             if !d.is_finite() {
                 return Err(FmuError::error(format!(
-                    "{F}: the derivative of {} along dvKnown is not finite (the seed's size {dmax:e} takes it beyond the range of a double)",
+                    "the derivative of {} along dvKnown is not finite (the seed's size {dmax:e} takes it beyond the range of a double)",
                     v.name
                 )));
             }

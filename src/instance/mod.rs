@@ -13,7 +13,7 @@ mod stepping;
 mod values;
 
 use crate::error::{Category, FmuError, FmuResult, Level};
-use crate::model::access::nodes_of;
+use crate::model::access::{nodes_of, non_finite_cause};
 use crate::model::slots::{real_tables, RealTables};
 use crate::model::snapshot::{NodeInputs, Snapshot};
 use crate::model::variables::{table, Table, Variant};
@@ -152,26 +152,18 @@ impl ModelInstance {
         self.logging_on && self.categories[category as usize]
     }
 
-    /// Logs an error result once and passes it on.
-    pub fn report<T>(&mut self, r: FmuResult<T>) -> FmuResult<T> {
-        if let Err(e) = &r {
-            self.log(e.level, e.category(), &e.message);
-        }
-        r
-    }
-
     /// Marks the instance fatal after a caught panic.
     pub fn set_fatal(&mut self) {
         self.s.mode = Mode::Fatal;
     }
 
     /// Checks that `call` (named `fname` in messages) is allowed in the current mode.
-    pub fn allowed(&self, call: Call, fname: &str) -> FmuResult<()> {
+    pub fn allowed(&self, call: Call) -> FmuResult<()> {
         if call.mask() & self.s.mode as u32 != 0 {
             Ok(())
         } else {
             Err(FmuError::error(format!(
-                "{fname} is not allowed in state {:?}",
+                "the call is not allowed in state {:?}",
                 self.s.mode
             )))
         }
@@ -183,11 +175,7 @@ impl ModelInstance {
         for name in categories {
             match Category::from_name(name) {
                 Some(c) => set[c as usize] = true,
-                None => {
-                    return Err(FmuError::error(format!(
-                        "fmi2SetDebugLogging: unknown log category \"{name}\""
-                    )))
-                }
+                None => return Err(FmuError::error(format!("unknown log category \"{name}\""))),
             }
         }
         self.logging_on = on;
@@ -197,11 +185,9 @@ impl ModelInstance {
 
     /// fmi2SetupExperiment (tolerance is not used: the kernel has no error-controlled solver).
     pub fn setup_experiment(&mut self, start: Real, _stop: Option<Real>) -> FmuResult<()> {
-        self.allowed(Call::Setup, "fmi2SetupExperiment")?;
+        self.allowed(Call::Setup)?;
         if !start.is_finite() {
-            return Err(FmuError::error(
-                "fmi2SetupExperiment: startTime is not finite",
-            ));
+            return Err(FmuError::error("startTime is not finite"));
         }
         self.s.start_time = start;
         self.s.time = start;
@@ -210,7 +196,7 @@ impl ModelInstance {
 
     /// fmi2EnterInitializationMode.
     pub fn enter_initialization_mode(&mut self) -> FmuResult<()> {
-        self.allowed(Call::Setup, "fmi2EnterInitializationMode")?;
+        self.allowed(Call::Setup)?;
         self.s.mode = Mode::InitializationMode;
         self.cache.clear();
         Ok(())
@@ -218,24 +204,20 @@ impl ModelInstance {
 
     /// fmi2ExitInitializationMode: checks the parameters, fixes the initial geometry.
     pub fn exit_initialization_mode(&mut self) -> FmuResult<()> {
-        self.allowed(Call::ExitInit, "fmi2ExitInitializationMode")?;
-        self.s.params.check(&self.ct.roles()).map_err(|name| {
-            FmuError::error(format!(
-                "fmi2ExitInitializationMode: invalid parameter {name}"
-            ))
-        })?;
-        let (a, b) = self
-            .nodes()
-            .map_err(|e| FmuError::error(format!("fmi2ExitInitializationMode: {}", e.message)))?;
-        let st = initial_state(self.ct, &self.s.params, &a, &b)
-            .map_err(|e| singular_error("fmi2ExitInitializationMode", e))?;
+        self.allowed(Call::ExitInit)?;
+        self.s
+            .params
+            .check(&self.ct.roles())
+            .map_err(|name| FmuError::error(format!("invalid parameter {name}")))?;
+        let (a, b) = self.nodes()?;
+        let st = initial_state(self.ct, &self.s.params, &a, &b).map_err(singular_error)?;
         // A start whose outputs or dissipation power are not finite (velocity inputs so large
         // that c·v² overflows) is refused: no step could succeed from it, and its state would
         // not de-serialize (regression 005). The instance stays in Initialization Mode.
-        self.evaluate_at(&self.s.inputs, Eval::Read, "fmi2ExitInitializationMode")?;
+        self.evaluate_at(&self.s.inputs, Eval::Read)?;
         if !st.power.iter().all(|x| x.is_finite()) {
             return Err(FmuError::error(
-                "fmi2ExitInitializationMode: the dissipation power at the initial inputs is not finite (velocity inputs too large)",
+                "the dissipation power at the initial inputs is not finite (velocity inputs too large)",
             ));
         }
         self.s.state = st;
@@ -246,14 +228,14 @@ impl ModelInstance {
 
     /// fmi2Terminate.
     pub fn terminate(&mut self) -> FmuResult<()> {
-        self.allowed(Call::Terminate, "fmi2Terminate")?;
+        self.allowed(Call::Terminate)?;
         self.s.mode = Mode::Terminated;
         Ok(())
     }
 
     /// fmi2Reset: back to start values in Mode::Instantiated.
     pub fn reset(&mut self) -> FmuResult<()> {
-        self.allowed(Call::Lifecycle, "fmi2Reset")?;
+        self.allowed(Call::Lifecycle)?;
         self.s = Snapshot::start(self.table);
         self.cache.clear();
         Ok(())
@@ -266,39 +248,46 @@ impl ModelInstance {
 
     /// Outputs at the given inputs with the committed state (in initialization: with the
     /// state the instance would start from at those inputs).
-    fn evaluate_at(&self, inputs: &[NodeInputs; 2], mode: Eval, fname: &str) -> FmuResult<Outputs> {
+    fn evaluate_at(&self, inputs: &[NodeInputs; 2], mode: Eval) -> FmuResult<Outputs> {
         let mut o = Outputs::default();
-        evaluate_at_into(self.ct, &self.s, inputs, mode, fname, &mut o)?;
+        evaluate_at_into(self.table, self.ct, &self.s, inputs, mode, &mut o)?;
         Ok(o)
     }
 
     /// Outputs at the current inputs and committed state, cached until something changes.
-    fn outputs(&mut self, fname: &str) -> FmuResult<&Outputs> {
+    fn outputs(&mut self) -> FmuResult<&Outputs> {
         if self.cache.get().is_none() {
             let s = &self.s;
-            evaluate_at_into(self.ct, s, &s.inputs, Eval::Read, fname, self.cache.spare())?;
+            evaluate_at_into(
+                self.table,
+                self.ct,
+                s,
+                &s.inputs,
+                Eval::Read,
+                self.cache.spare(),
+            )?;
             self.cache.commit_spare();
         }
         // just filled when it was empty
         self.cache
             .get()
-            .ok_or_else(|| FmuError::error(format!("{fname}: no outputs")))
+            .ok_or_else(|| FmuError::error("no outputs"))
     }
 
     /// fmi2GetFMUstate.
     pub fn get_state(&self) -> FmuResult<Snapshot> {
-        self.allowed(Call::Lifecycle, "fmi2GetFMUstate")?;
+        self.allowed(Call::Lifecycle)?;
         Ok(self.s.clone())
     }
 
     /// Refuses an FMU state made by an instance of another variant (`fname` names the caller):
     /// its parameters and inputs follow another variable table.
-    pub fn own_state(&self, s: &Snapshot, fname: &str) -> FmuResult<()> {
+    pub fn own_state(&self, s: &Snapshot) -> FmuResult<()> {
         if s.variant == self.s.variant {
             return Ok(());
         }
         Err(FmuError::error(format!(
-            "{fname}: the state belongs to {}, not {}; refused",
+            "the state belongs to {}, not {}; refused",
             s.variant.spec().model_identifier,
             self.table.spec.model_identifier
         )))
@@ -306,8 +295,8 @@ impl ModelInstance {
 
     /// fmi2SetFMUstate.
     pub fn set_state(&mut self, s: &Snapshot) -> FmuResult<()> {
-        self.allowed(Call::Lifecycle, "fmi2SetFMUstate")?;
-        self.own_state(s, "fmi2SetFMUstate")?;
+        self.allowed(Call::Lifecycle)?;
+        self.own_state(s)?;
         self.s = s.clone();
         self.cache.clear();
         Ok(())
@@ -315,12 +304,9 @@ impl ModelInstance {
 
     /// fmi2DeSerializeFMUstate: validates bytes and returns the snapshot they hold.
     pub fn deserialize(&self, bytes: &[u8]) -> FmuResult<Snapshot> {
-        self.allowed(Call::Lifecycle, "fmi2DeSerializeFMUstate")?;
-        crate::model::state_bytes::decode(self.table, bytes).map_err(|why| {
-            FmuError::error(format!(
-                "fmi2DeSerializeFMUstate: {why}; state not restored"
-            ))
-        })
+        self.allowed(Call::Lifecycle)?;
+        crate::model::state_bytes::decode(self.table, bytes)
+            .map_err(|why| FmuError::error(format!("{why}; state not restored")))
     }
 
     /// fmi2SerializeFMUstate: the snapshot as versioned bytes.
@@ -332,28 +318,27 @@ impl ModelInstance {
 /// Outputs at `inputs` with the committed state of `s` (in initialization: with the state the
 /// instance would start from at those inputs), written into `o`.
 fn evaluate_at_into(
+    t: &Table,
     ct: ConnectionType,
     s: &Snapshot,
     inputs: &[NodeInputs; 2],
     mode: Eval,
-    fname: &str,
     o: &mut Outputs,
 ) -> FmuResult<()> {
-    let (a, b) =
-        nodes_of(inputs).map_err(|e| FmuError::error(format!("{fname}: {}", e.message)))?;
+    let (a, b) = nodes_of(inputs)?;
     let init;
     let st = if s.mode == Mode::InitializationMode {
-        init = initial_state(ct, &s.params, &a, &b).map_err(|e| singular_error(fname, e))?;
+        init = initial_state(ct, &s.params, &a, &b).map_err(singular_error)?;
         &init
     } else {
         &s.state
     };
     let mut next = State::default();
-    evaluate_into(ct, &s.params, st, &a, &b, mode, (o, &mut next))
-        .map_err(|e| singular_error(fname, e))?;
+    evaluate_into(ct, &s.params, st, &a, &b, mode, (o, &mut next)).map_err(singular_error)?;
     if !crate::physics::step::outputs_finite(o) {
         return Err(FmuError::error(format!(
-            "{fname}: the outputs at these inputs are not finite"
+            "at these inputs {}",
+            non_finite_cause(t, o, inputs)
         )));
     }
     Ok(())
@@ -372,6 +357,6 @@ fn singular_text(s: Singular) -> String {
     }
 }
 
-fn singular_error(fname: &str, s: Singular) -> FmuError {
-    FmuError::error(format!("{fname}: {}", singular_text(s)))
+fn singular_error(s: Singular) -> FmuError {
+    FmuError::error(singular_text(s))
 }

@@ -3,7 +3,7 @@
 use super::ModelInstance;
 use super::{singular_text, Call};
 use crate::error::{Category, FmuError, FmuResult, Level};
-use crate::model::access::write_node;
+use crate::model::access::{non_finite_cause, write_node};
 use crate::model::snapshot::Mode;
 use crate::physics::connector::{Extrapolation, State};
 use crate::physics::kinematics::Node;
@@ -27,23 +27,20 @@ impl ModelInstance {
 
     /// fmi2DoStep: advance from t to t + h along the input extrapolation.
     pub fn do_step(&mut self, t: Real, h: Real) -> FmuResult<()> {
-        const F: &str = "fmi2DoStep";
-        self.allowed(Call::DoStep, F)?;
+        self.allowed(Call::DoStep)?;
         if !h.is_finite() || h <= 0.0 {
             return Err(FmuError::error(format!(
-                "{F}: communicationStepSize {h:?} must be finite and > 0"
+                "communicationStepSize {h:?} must be finite and > 0"
             )));
         }
         let tol = 1e-9 * t.abs().max(1.0);
         if !t.is_finite() || (t - self.s.time).abs() > tol {
             return Err(FmuError::error(format!(
-                "{F}: currentCommunicationPoint {t:?} does not match the FMU time {:?}",
+                "currentCommunicationPoint {t:?} does not match the FMU time {:?}",
                 self.s.time
             )));
         }
-        let (a, b) = self
-            .nodes()
-            .map_err(|e| FmuError::error(format!("{F}: {}", e.message)))?;
+        let (a, b) = self.nodes()?;
         let (ra, rb) = (self.rates(0, &a), self.rates(1, &b));
         let before = self.wants(Category::Events).then_some(self.s.state);
         // the outputs at t + h are evaluated into the cache's spare buffer: it becomes the
@@ -76,7 +73,13 @@ impl ModelInstance {
             }
             Err(e) => {
                 self.s.mode = Mode::Error;
-                Err(step_error(t, h, e))
+                let cause = match e {
+                    StepError::NotFinite(_) => {
+                        non_finite_cause(self.table, self.cache.spare(), &self.s.inputs)
+                    }
+                    _ => String::new(),
+                };
+                Err(step_error(t, h, e, &cause))
             }
         }
     }
@@ -126,13 +129,13 @@ impl ModelInstance {
 
     /// fmi2GetRealStatus (fmi2LastSuccessfulTime).
     pub fn last_successful_time(&self) -> FmuResult<Real> {
-        self.allowed(Call::Status, "fmi2GetRealStatus")?;
+        self.allowed(Call::Status)?;
         Ok(self.s.time)
     }
 
     /// fmi2GetBooleanStatus (fmi2Terminated): the slave never asks to terminate.
     pub fn terminated_status(&self) -> FmuResult<bool> {
-        self.allowed(Call::Status, "fmi2GetBooleanStatus")?;
+        self.allowed(Call::Status)?;
         Ok(false)
     }
 }
@@ -140,20 +143,19 @@ impl ModelInstance {
 /// The message of a refused fmi2DoStep(t, h) (off the hot path).
 #[cold]
 #[inline(never)]
-fn step_error(t: Real, h: Real, e: StepError) -> FmuError {
-    const F: &str = "fmi2DoStep";
+fn step_error(t: Real, h: Real, e: StepError, not_finite: &str) -> FmuError {
     FmuError::error(match e {
         StepError::Singular(s, tau) => format!(
-            "{F}: at t = {:?}: {}; the state at t = {t:?} is kept (fmi2Reset or fmi2SetFMUstate recovers)",
+            "at t = {:?}: {}; the state at t = {t:?} is kept (fmi2Reset or fmi2SetFMUstate recovers)",
             t + tau,
             singular_text(s)
         ),
         StepError::NotFinite(tau) => format!(
-            "{F}: at t = {:?}: an output would not be finite; the state at t = {t:?} is kept",
+            "at t = {:?}: {not_finite}; the state at t = {t:?} is kept",
             t + tau
         ),
         StepError::TooManySubsteps(n) => format!(
-            "{F}: the step h = {h:?} would need {n:e} internal substeps (more than {}); use a smaller step or a larger cosim.maxSubstep",
+            "the step h = {h:?} would need {n:e} internal substeps (more than {}); use a smaller step or a larger cosim.maxSubstep",
             crate::physics::step::MAX_SUBSTEPS
         ),
     })

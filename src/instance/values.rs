@@ -15,32 +15,23 @@ use crate::physics::math::Real;
 impl ModelInstance {
     /// Looks a VR up and checks its type, naming the function in errors.
     #[inline]
-    pub(super) fn var(&self, vr: u32, want: Ty, fname: &str) -> FmuResult<&'static VarSpec> {
+    pub(super) fn var(&self, vr: u32, want: Ty) -> FmuResult<&'static VarSpec> {
         match self.table.get(vr) {
             Some(v) if Ty::of(&v.start) == want => Ok(v),
-            found => Err(var_error(vr, found, want, fname)),
+            found => Err(var_error(vr, found, want)),
         }
     }
 
     /// The (node, index) of a Real node input `vr` given a finite `what` value `x`, or the
     /// error that names the variable (input derivatives, directional-derivative seeds).
-    pub(super) fn finite_input(
-        &self,
-        vr: u32,
-        x: Real,
-        what: &str,
-        fname: &str,
-    ) -> FmuResult<(usize, usize)> {
-        let v = self.var(vr, Ty::Real, fname)?;
+    pub(super) fn finite_input(&self, vr: u32, x: Real, what: &str) -> FmuResult<(usize, usize)> {
+        let v = self.var(vr, Ty::Real)?;
         let Field::Input { node, idx } = v.field else {
-            return Err(FmuError::error(format!(
-                "{fname}: {} is not an input",
-                v.name
-            )));
+            return Err(FmuError::error(format!("{} is not an input", v.name)));
         };
         if !x.is_finite() {
             return Err(FmuError::error(format!(
-                "{fname}: the {what} for {} is not finite",
+                "the {what} for {} is not finite",
                 v.name
             )));
         }
@@ -48,7 +39,7 @@ impl ModelInstance {
     }
 
     /// Checks that `v` may be set in the current mode.
-    fn settable(&self, v: &VarSpec, fname: &str) -> FmuResult<()> {
+    fn settable(&self, v: &VarSpec) -> FmuResult<()> {
         let ok = match (v.causality, v.variability) {
             (Causality::Output, _) => false,
             (Causality::Parameter, Variability::Fixed) => {
@@ -60,12 +51,12 @@ impl ModelInstance {
             Ok(())
         } else if v.causality == Causality::Output {
             Err(FmuError::error(format!(
-                "{fname}: {} is an output and cannot be set",
+                "{} is an output and cannot be set",
                 v.name
             )))
         } else {
             Err(FmuError::error(format!(
-                "{fname}: fixed parameter {} cannot be set in state {:?}",
+                "fixed parameter {} cannot be set in state {:?}",
                 v.name, self.s.mode
             )))
         }
@@ -78,24 +69,22 @@ impl ModelInstance {
         vrs: &[u32],
         values: &[T],
         ty: Ty,
-        fname: &str,
         write: impl Fn(&mut Params, &mut [NodeInputs; 2], &VarSpec, T) -> Result<(), &'static str>,
     ) -> FmuResult<()> {
-        self.allowed(Call::Set, fname)?;
+        self.allowed(Call::Set)?;
         let mut touches_params = false;
         for &vr in vrs {
-            let v = self.var(vr, ty, fname)?;
-            self.settable(v, fname)?;
+            let v = self.var(vr, ty)?;
+            self.settable(v)?;
             touches_params |= v.causality == Causality::Parameter;
         }
         if !touches_params {
             // the per-step path: node inputs only, no parameter copy or check
             let mut inputs = self.s.inputs;
             for (&vr, &x) in vrs.iter().zip(values) {
-                let v = self.var(vr, ty, fname)?;
-                write(&mut self.s.params, &mut inputs, v, x).map_err(|why| {
-                    FmuError::error(format!("{fname}: {} {why}; value not set", v.name))
-                })?;
+                let v = self.var(vr, ty)?;
+                write(&mut self.s.params, &mut inputs, v, x)
+                    .map_err(|why| FmuError::error(format!("{} {why}; value not set", v.name)))?;
             }
             if inputs != self.s.inputs {
                 self.s.inputs = inputs;
@@ -106,14 +95,13 @@ impl ModelInstance {
         let mut params = self.s.params;
         let mut inputs = self.s.inputs;
         for (&vr, &x) in vrs.iter().zip(values) {
-            let v = self.var(vr, ty, fname)?;
-            write(&mut params, &mut inputs, v, x).map_err(|why| {
-                FmuError::error(format!("{fname}: {} {why}; value not set", v.name))
-            })?;
+            let v = self.var(vr, ty)?;
+            write(&mut params, &mut inputs, v, x)
+                .map_err(|why| FmuError::error(format!("{} {why}; value not set", v.name)))?;
         }
         if self.s.mode == Mode::StepComplete && params != self.s.params {
             params.check(&self.ct.roles()).map_err(|name| {
-                FmuError::error(format!("{fname}: invalid parameter {name}; values not set"))
+                FmuError::error(format!("invalid parameter {name}; values not set"))
             })?;
         }
         if params != self.s.params || inputs != self.s.inputs {
@@ -126,11 +114,10 @@ impl ModelInstance {
 
     /// fmi2SetReal.
     pub fn set_real(&mut self, vrs: &[u32], values: &[Real]) -> FmuResult<()> {
-        const F: &str = "fmi2SetReal";
         // The per-step path: finite values of node inputs only, written in place in one pass;
         // the first value that is not for this path puts the inputs back as they were and
         // hands the whole call to the general batch, which names the culprit (all or nothing).
-        self.allowed(Call::Set, F)?;
+        self.allowed(Call::Set)?;
         let index = &*self.real.input_index;
         let before = self.s.inputs;
         let flat = self.s.inputs.as_flattened_mut();
@@ -140,7 +127,7 @@ impl ModelInstance {
                 Some(u) if x.is_finite() => *u = x,
                 _ => {
                     self.s.inputs = before;
-                    return self.set_batch(vrs, values, Ty::Real, F, write_real);
+                    return self.set_batch(vrs, values, Ty::Real, write_real);
                 }
             }
         }
@@ -152,49 +139,41 @@ impl ModelInstance {
 
     /// fmi2SetInteger.
     pub fn set_integer(&mut self, vrs: &[u32], values: &[i32]) -> FmuResult<()> {
-        self.set_batch(vrs, values, Ty::Integer, "fmi2SetInteger", |p, _, v, x| {
-            write_int(p, v, x)
-        })
+        self.set_batch(vrs, values, Ty::Integer, |p, _, v, x| write_int(p, v, x))
     }
 
     /// fmi2SetBoolean.
     pub fn set_boolean(&mut self, vrs: &[u32], values: &[bool]) -> FmuResult<()> {
-        self.set_batch(
-            vrs,
-            values,
-            Ty::Boolean,
-            "fmi2SetBoolean",
-            |p, _, v, x| match v.field {
-                Field::CompParam {
-                    par: CompPar::RefGiven,
-                    k,
-                } => {
-                    p.ref_given[k as usize] = x;
-                    Ok(())
-                }
-                _ => Err("is not a Boolean"),
-            },
-        )
+        self.set_batch(vrs, values, Ty::Boolean, |p, _, v, x| match v.field {
+            Field::CompParam {
+                par: CompPar::RefGiven,
+                k,
+            } => {
+                p.ref_given[k as usize] = x;
+                Ok(())
+            }
+            _ => Err("is not a Boolean"),
+        })
     }
 
     /// fmi2SetString: there are no String variables.
     pub fn set_string(&mut self, vrs: &[u32]) -> FmuResult<()> {
-        self.allowed(Call::Set, "fmi2SetString")?;
+        self.allowed(Call::Set)?;
         match vrs.first() {
             None => Ok(()),
             Some(vr) => Err(FmuError::error(format!(
-                "fmi2SetString: unknown value reference {vr} (this FMU has no String variables)"
+                "unknown value reference {vr} (this FMU has no String variables)"
             ))),
         }
     }
 
     /// fmi2GetString: there are no String variables.
     pub fn get_string(&mut self, vrs: &[u32]) -> FmuResult<()> {
-        self.allowed(Call::Get, "fmi2GetString")?;
+        self.allowed(Call::Get)?;
         match vrs.first() {
             None => Ok(()),
             Some(vr) => Err(FmuError::error(format!(
-                "fmi2GetString: unknown value reference {vr} (this FMU has no String variables)"
+                "unknown value reference {vr} (this FMU has no String variables)"
             ))),
         }
     }
@@ -206,35 +185,33 @@ impl ModelInstance {
         vrs: &[u32],
         out: &mut [T],
         ty: Ty,
-        fname: &str,
         read: impl Fn(&Snapshot, &VarSpec, Option<&Outputs>) -> T,
     ) -> FmuResult<()> {
-        self.allowed(Call::Get, fname)?;
+        self.allowed(Call::Get)?;
         let mut any_output = false;
         for &vr in vrs {
-            any_output |= self.var(vr, ty, fname)?.causality == Causality::Output;
+            any_output |= self.var(vr, ty)?.causality == Causality::Output;
         }
         if any_output {
-            self.outputs(fname)?;
+            self.outputs()?;
         }
         let o = self.cache.get();
         for (&vr, slot) in vrs.iter().zip(out.iter_mut()) {
-            *slot = read(&self.s, self.var(vr, ty, fname)?, o);
+            *slot = read(&self.s, self.var(vr, ty)?, o);
         }
         Ok(())
     }
 
     /// fmi2GetReal.
     pub fn get_real(&mut self, vrs: &[u32], out: &mut [Real]) -> FmuResult<()> {
-        const F: &str = "fmi2GetReal";
         // The per-step path: node loads only (the usual read after a step), then every VR a
         // Real variable (else the general get names the culprit); all are checked before
         // anything is written, then read through the slot tables.
-        self.allowed(Call::Get, F)?;
+        self.allowed(Call::Get)?;
         let index = &*self.real.load_index;
         let load = |vr: u32| index.get(vr as usize).copied().unwrap_or(NO_INDEX);
         if vrs.iter().all(|&vr| load(vr) != NO_INDEX) {
-            let o = self.outputs(F)?;
+            let o = self.outputs()?;
             let loads = node_loads(o);
             for (&vr, slot) in vrs.iter().zip(out.iter_mut()) {
                 if let Some(&l) = loads.get(load(vr) as usize) {
@@ -252,7 +229,7 @@ impl ModelInstance {
             }
         }
         if any_output {
-            self.outputs(F)?;
+            self.outputs()?;
         }
         let (o, loads) = match self.cache.get() {
             Some(o) => (Some(o), node_loads(o)),
@@ -274,45 +251,39 @@ impl ModelInstance {
     /// fmi2GetReal through the variable table (reports unknown VRs and VRs of other types).
     #[cold]
     fn get_real_general(&mut self, vrs: &[u32], out: &mut [Real]) -> FmuResult<()> {
-        self.get_values(vrs, out, Ty::Real, "fmi2GetReal", |s, v, o| {
-            match (v.field, o) {
-                (Field::Input { node, idx }, _) => s.inputs[node as usize][idx as usize],
-                (f, Some(o)) if v.causality == Causality::Output => read_output(o, f),
-                (f, _) => read_real_param(&s.params, f),
-            }
+        self.get_values(vrs, out, Ty::Real, |s, v, o| match (v.field, o) {
+            (Field::Input { node, idx }, _) => s.inputs[node as usize][idx as usize],
+            (f, Some(o)) if v.causality == Causality::Output => read_output(o, f),
+            (f, _) => read_real_param(&s.params, f),
         })
     }
 
     /// fmi2GetInteger.
     pub fn get_integer(&mut self, vrs: &[u32], out: &mut [i32]) -> FmuResult<()> {
-        self.get_values(vrs, out, Ty::Integer, "fmi2GetInteger", |s, v, o| {
-            match (v.field, o) {
-                (Field::StopStatus(k), Some(o)) => o.cslst[k as usize],
-                (Field::Friction(FrictionField::Status), Some(o)) => o.friction.status as i32,
-                (Field::Friction(FrictionField::StatusR1), Some(o)) => o.friction.status_r1 as i32,
-                (f, _) => read_int_param(&s.params, f),
-            }
+        self.get_values(vrs, out, Ty::Integer, |s, v, o| match (v.field, o) {
+            (Field::StopStatus(k), Some(o)) => o.cslst[k as usize],
+            (Field::Friction(FrictionField::Status), Some(o)) => o.friction.status as i32,
+            (Field::Friction(FrictionField::StatusR1), Some(o)) => o.friction.status_r1 as i32,
+            (f, _) => read_int_param(&s.params, f),
         })
     }
 
     /// fmi2GetBoolean.
     pub fn get_boolean(&mut self, vrs: &[u32], out: &mut [bool]) -> FmuResult<()> {
-        self.get_values(vrs, out, Ty::Boolean, "fmi2GetBoolean", |s, v, _| {
-            match v.field {
-                Field::CompParam { k, .. } => s.params.ref_given[k as usize],
-                _ => false,
-            }
+        self.get_values(vrs, out, Ty::Boolean, |s, v, _| match v.field {
+            Field::CompParam { k, .. } => s.params.ref_given[k as usize],
+            _ => false,
         })
     }
 }
 
 /// The message for an unknown VR or a VR of another type (off the hot path).
 #[cold]
-fn var_error(vr: u32, found: Option<&VarSpec>, want: Ty, fname: &str) -> FmuError {
+fn var_error(vr: u32, found: Option<&VarSpec>, want: Ty) -> FmuError {
     match found {
-        None => FmuError::error(format!("{fname}: unknown value reference {vr}")),
+        None => FmuError::error(format!("unknown value reference {vr}")),
         Some(v) => FmuError::error(format!(
-            "{fname}: variable {} (vr {vr}) is of type {:?}, not {want:?}",
+            "variable {} (vr {vr}) is of type {:?}, not {want:?}",
             v.name,
             Ty::of(&v.start)
         )),

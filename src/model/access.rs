@@ -3,7 +3,9 @@
 //! inputs as physics nodes and back.
 
 use super::snapshot::NodeInputs;
-use super::variables::{CompOut, CompPar, Field, FrictionField, ScalarPar, Start, VarSpec};
+use super::variables::{
+    Causality, CompOut, CompPar, Field, FrictionField, ScalarPar, Start, Table, VarSpec,
+};
 use crate::error::{FmuError, FmuResult};
 use crate::physics::connector::{Extrapolation, Outputs, Params};
 use crate::physics::kinematics::Node;
@@ -281,5 +283,35 @@ pub fn read_output(o: &Outputs, f: Field) -> Real {
             [e.stored, e.damping, e.friction, e.stops][i as usize]
         }
         _ => 0.0,
+    }
+}
+
+/// What made outputs non-finite, in words: the first Real output of the table that is not
+/// finite, and the node input of largest magnitude (the usual cause: a position or velocity so
+/// large that a force, an energy or a dissipation power overflows). Off the per-step path.
+#[cold]
+#[inline(never)]
+pub fn non_finite_cause(t: &Table, o: &Outputs, inputs: &[NodeInputs; 2]) -> String {
+    let output = t
+        .vars
+        .iter()
+        .filter(|v| v.causality == Causality::Output && Ty::of(&v.start) == Ty::Real)
+        .map(|v| (v, read_output(o, v.field)))
+        .find(|(_, x)| !x.is_finite());
+    let input = t
+        .vars
+        .iter()
+        .filter_map(|v| match v.field {
+            Field::Input { node, idx } => Some((v, inputs[node as usize][idx as usize])),
+            _ => None,
+        })
+        .max_by(|(_, x), (_, y)| x.abs().total_cmp(&y.abs()));
+    let output = match output {
+        Some((v, x)) => format!("output {} would be {x:?}", v.name),
+        None => "an output would not be finite".to_string(),
+    };
+    match input {
+        Some((v, x)) => format!("{output} (largest input: {} = {x:e})", v.name),
+        None => output,
     }
 }
