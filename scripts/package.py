@@ -1,13 +1,19 @@
 #!/usr/bin/env python3
 """Package every variant into dist/<Variant>.fmu (FMI 2.0 Co-Simulation, linux64).
 
-Each FMU holds modelDescription.xml (copy of modelDescription/<Variant>.xml),
-binaries/linux64/<Variant>.so (copy of target/release/libconnector_fmu.so) and
-documentation/index.html generated from the model description.
+Each FMU holds modelDescription.xml (modelDescription/<Variant>.xml with the commit time as
+generationDateAndTime), binaries/linux64/<Variant>.so (target/release/libconnector_fmu.so with
+its debug information and symbol table stripped) and documentation/index.html generated from
+the model description. The debug information stays beside the FMUs for developers, in
+dist/debug/connector_fmu.so.debug (gdb finds it through the binary's .gnu_debuglink).
 Usage: package.py [Variant ...]   (default: all five)
 """
 import html
+import os
+import re
+import subprocess
 import sys
+import tempfile
 import xml.etree.ElementTree as ET
 import zipfile
 from pathlib import Path
@@ -15,6 +21,7 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parents[1]
 VARIANTS = ["Planar", "ProjectionCartesian", "ProjectionFlexionTorsion", "Bushing", "RadialThrust"]
 LIBRARY = REPO / "target" / "release" / "libconnector_fmu.so"
+DEBUG_FILE = "connector_fmu.so.debug"
 TYPES = ("Real", "Integer", "Boolean", "String", "Enumeration")
 
 CONVENTIONS = """<h2>Conventions</h2>
@@ -58,6 +65,48 @@ def documentation(root: ET.Element) -> str:
 """
 
 
+def generation_date() -> str | None:
+    """The commit time of HEAD in UTC (ISO 8601), so that packaging the same commit gives the
+    same FMU; SOURCE_DATE_EPOCH overrides it; None outside a git checkout."""
+    epoch = os.environ.get("SOURCE_DATE_EPOCH")
+    if epoch is None:
+        try:
+            epoch = subprocess.run(["git", "log", "-1", "--format=%ct"], cwd=REPO, check=True,
+                                   capture_output=True, text=True).stdout.strip()
+        except (OSError, subprocess.CalledProcessError):
+            return None
+    if not epoch:
+        return None
+    import datetime
+    t = datetime.datetime.fromtimestamp(int(epoch), tz=datetime.timezone.utc)
+    return t.strftime("%Y-%m-%dT%H:%M:%SZ")
+
+
+def with_generation_date(xml: bytes, date: str | None) -> bytes:
+    """The model description with generationDateAndTime on its root element."""
+    if date is None:
+        return xml
+    text = xml.decode("utf-8")
+    text, n = re.subn(r"<fmiModelDescription\b", f'<fmiModelDescription generationDateAndTime="{date}"',
+                      text, count=1)
+    if n != 1:
+        sys.exit("error: no fmiModelDescription element to date")
+    return text.encode("utf-8")
+
+
+def stripped_library(library: Path, debug_dir: Path) -> bytes:
+    """The library without debug information and symbol table (its exports stay in .dynsym);
+    the debug information is written to debug_dir for developers, linked by .gnu_debuglink."""
+    debug_dir.mkdir(parents=True, exist_ok=True)
+    debug = debug_dir / DEBUG_FILE
+    subprocess.run(["objcopy", "--only-keep-debug", str(library), str(debug)], check=True)
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / library.name
+        subprocess.run(["objcopy", "--strip-all", f"--add-gnu-debuglink={debug}", str(library), str(out)],
+                       check=True, cwd=debug_dir)
+        return out.read_bytes()
+
+
 def add(zf: zipfile.ZipFile, arcname: str, data: bytes, mode: int = 0o644) -> None:
     info = zipfile.ZipInfo(arcname, date_time=(1980, 1, 1, 0, 0, 0))  # reproducible archives
     info.compress_type = zipfile.ZIP_DEFLATED
@@ -65,12 +114,12 @@ def add(zf: zipfile.ZipFile, arcname: str, data: bytes, mode: int = 0o644) -> No
     zf.writestr(info, data)
 
 
-def package(variant: str, out_dir: Path) -> Path:
+def package(variant: str, out_dir: Path, binary: bytes, date: str | None) -> Path:
     xml_path = REPO / "modelDescription" / f"{variant}.xml"
     if not xml_path.is_file():
         sys.exit(f"error: {xml_path.relative_to(REPO)} is missing; generate it with\n"
                  "  cargo run --release --bin gen_model_description -- modelDescription")
-    xml = xml_path.read_bytes()
+    xml = with_generation_date(xml_path.read_bytes(), date)
     root = ET.fromstring(xml)
     cs = root.find("CoSimulation")
     identifier = cs.get("modelIdentifier") if cs is not None else None
@@ -80,7 +129,7 @@ def package(variant: str, out_dir: Path) -> Path:
     tmp = fmu.with_suffix(".fmu.tmp")
     with zipfile.ZipFile(tmp, "w") as zf:
         add(zf, "modelDescription.xml", xml)
-        add(zf, f"binaries/linux64/{identifier}.so", LIBRARY.read_bytes(), 0o755)
+        add(zf, f"binaries/linux64/{identifier}.so", binary, 0o755)
         add(zf, "documentation/index.html", documentation(root).encode("utf-8"))
     tmp.replace(fmu)
     return fmu
@@ -95,8 +144,10 @@ def main() -> None:
         sys.exit(f"error: {LIBRARY.relative_to(REPO)} is missing; run cargo build --release")
     out_dir = REPO / "dist"
     out_dir.mkdir(exist_ok=True)
+    binary = stripped_library(LIBRARY, out_dir / "debug")
+    date = generation_date()
     for v in variants:
-        fmu = package(v, out_dir)
+        fmu = package(v, out_dir, binary, date)
         print(f"{str(fmu.relative_to(REPO)):<36} {fmu.stat().st_size:>12,d} bytes")
 
 
