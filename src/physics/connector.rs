@@ -35,7 +35,7 @@ impl Penalty {
     }
 }
 
-/// Input extrapolation over a communication step (SPEC §6).
+/// Input extrapolation over a communication step (docs/physics.md, "Stepping").
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Extrapolation {
     /// Nodes stay where the inputs put them at t.
@@ -204,7 +204,7 @@ impl Default for State {
     }
 }
 
-/// Everything the connector reports at one instant (SPEC §5), per component slot.
+/// Everything the connector reports at one instant, per component slot.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Outputs {
     /// CP / CPR: component position.
@@ -415,7 +415,7 @@ fn evaluate_body(
 /// One-sided stop penalty on position `c` with rate `v`: (force, status, energy, power).
 ///
 /// The force never pulls: it is clipped at zero when the damper would make it adhesive
-/// (SPEC §5). `power` is the dissipation rate (F − k·p)·ṗ ≥ 0, where p is the penetration.
+/// (docs/physics.md, "Stops"). `power` is the dissipation rate (F − k·p)·ṗ ≥ 0, where p is the penetration.
 #[inline]
 fn stop_force(
     c: Real,

@@ -1,6 +1,6 @@
 //! Friction of a uniformly loaded disc that slides and spins at once (Contensou 1963; Farkas,
 //! Bartels, Unger, Wolf, PRL 90, 248302, 2003), used by `friction.coupling = 1` for the
-//! direction of the coupled friction force (SCENES §4).
+//! direction of the coupled friction force (the puck scene in docs/cosim.md).
 //!
 //! A disc of radius R pressed by N with Coulomb μ, its centre sliding at v and spinning at ω:
 //! every contact point slips at v + ω × r and carries μN/(πR²) against that direction. The

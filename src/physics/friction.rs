@@ -1,4 +1,5 @@
-//! PLANAR predefined friction (seed pages 631–632): sliding in the local 2–3 plane and spin
+//! PLANAR predefined friction (Abaqus Analysis User's Guide §31.1.5, PLANAR; docs/physics.md,
+//! "Friction"): sliding in the local 2–3 plane and spin
 //! about the local 1-direction, each an elastic stick spring with a return map onto the
 //! friction limit; optionally coupled through an ellipsoidal limit surface with the flow rule of
 //! a uniformly loaded disc (Contensou; `disc`).
@@ -26,7 +27,7 @@ pub enum Eval {
     Start,
 }
 
-/// Friction parameters (SPEC §3 names `friction.*`).
+/// Friction parameters (the `friction.*` variables).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrictionParams {
     /// Static coefficient μ_s (1).
@@ -170,7 +171,7 @@ pub struct FrictionState {
     pub slip_rate: [Real; 3],
 }
 
-/// Friction outputs (SPEC §5).
+/// Friction outputs (CNF, CNM1, CSFC, CSMC1, accumulated slip, status per effect).
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct FrictionOut {
     /// CNF = F_NC (N).
@@ -204,7 +205,8 @@ pub struct FrictionResult {
     pub state: FrictionState,
 }
 
-/// F_NC and M_NR1 from the constraint reactions f1, m2, m3 (seed page 631–632).
+/// F_NC and M_NR1 from the constraint reactions f1, m2, m3 (the manual's PLANAR friction
+/// formulas; docs/physics.md, "Friction").
 #[inline]
 pub fn normal_loads(p: &FrictionParams, f1: Real, m2: Real, m3: Real) -> (Real, Real) {
     let m_bend = norm2(m2, m3);

@@ -1,5 +1,5 @@
 //! Connector kinematics: the component positions c_k of every connection type and their
-//! gradients with respect to the node motions (seed pages 631–640, SPEC §4).
+//! gradients with respect to the node motions (the manual's connection types; docs/physics.md, "Kinematics").
 //!
 //! Components use the Abaqus numbering k = 1..6 (slot k−1): 1–3 translations, 4–6 rotations.
 //! Node motions are δx (translation, W) and δθ (small rotation vector, W) per node; the
@@ -266,7 +266,7 @@ impl Geometry {
     };
 }
 
-/// The centred projection triad of SPEC §4 with the flexion–torsion angles and Jacobians.
+/// The centred projection triad (docs/physics.md, "Centred projection triad") with the flexion–torsion angles and Jacobians.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Centred {
     /// {e1, e2, e3} as columns.
@@ -283,7 +283,8 @@ pub struct Centred {
     pub b: Mat3,
 }
 
-/// The centred triad and angles (SPEC §4 steps 1–4), with exact derivatives.
+/// The centred triad and angles (the four construction steps in docs/physics.md), with exact
+/// derivatives.
 ///
 /// Parametrisation used for the derivatives: R_a = R_c·E(−v)·Z(−β/2), R_b = R_c·E(v)·Z(β/2),
 /// v = (α1/2, α2/2, 0) in triad coordinates (E = exponential map, Z = rotation about 3).
@@ -312,7 +313,7 @@ pub fn centred(ra: &Mat3, rb: &Mat3, beta_prev: Real) -> Result<Centred, Singula
     //    the sine and cosine of α/2 that the Jacobians below need too)
     let th = SinCos::of(0.5 * alpha);
     let ra_half = rotate_about(&w, s, &th, ra);
-    // 3. torsion β (seed formula on the original frames), continued from the previous value
+    // 3. torsion β (the manual's formula on the original frames), continued from the previous value
     let beta_raw = (e2a.dot(&e1b) - e1a.dot(&e2b)).atan2(e1a.dot(&e1b) + e2a.dot(&e2b));
     let beta = continue_branch(beta_raw, beta_prev);
     // 4. {e1, e2, e3} = Rot(e3, β/2)·Rot(q, α/2)·{frame a}: ra_half·rot_z(β/2) column by

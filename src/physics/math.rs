@@ -165,7 +165,7 @@ impl SinCos {
 /// Unit quaternion from scalar-first components, normalised.
 ///
 /// Returns `None` when a component is not finite or the norm is below 1e-6
-/// (SPEC §3: such a quaternion is refused, never silently "fixed").
+/// (such a quaternion is refused, never silently "fixed").
 pub fn quat_from_wxyz(w: Real, x: Real, y: Real, z: Real) -> Option<Quat> {
     let q = nalgebra::Quaternion::new(w, x, y, z);
     let n = q.norm();

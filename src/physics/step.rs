@@ -1,4 +1,4 @@
-//! Advancing the connector over a communication step [t, t + h] (SPEC §6): the nodes move
+//! Advancing the connector over a communication step [t, t + h] (docs/physics.md, "Stepping"): the nodes move
 //! along the input extrapolation, the path-dependent state (friction, stops, angle branches)
 //! follows in internal substeps, and the dissipated energies are integrated.
 
