@@ -870,13 +870,13 @@ fn slot(ct: ConnectionType, k: usize) -> (&'static str, &'static str, &'static s
     let (sym, meaning) = if k < 3 {
         match (ct.trans, k) {
             (Translational::ProjectionCartesian, 0) => {
-                ("x", "x = e1·(x_b - x_a) along e1 of the centred projection triad")
+                ("x", "projected distance x = e1·(x_b - x_a) along e1 of the centred projection triad")
             }
             (Translational::ProjectionCartesian, 1) => {
-                ("y", "y = e2·(x_b - x_a) along e2 of the centred projection triad")
+                ("y", "projected distance y = e2·(x_b - x_a) along e2 of the centred projection triad")
             }
             (Translational::ProjectionCartesian, _) => {
-                ("z", "z = e3·(x_b - x_a) along e3 of the centred projection triad")
+                ("z", "projected distance z = e3·(x_b - x_a) along e3 of the centred projection triad")
             }
             (Translational::SlidePlane, 0) => (
                 "x",
