@@ -2,7 +2,14 @@
 //! function, no I/O. The committed files under `modelDescription/` must equal its output.
 
 use crate::error::Category;
-use crate::model::variables::{table, Causality, Deps, Start, Table, Variability, Variant};
+use crate::model::variables::{table, Causality, Start, Table, Variability, Variant};
+
+pub use crate::model::variables::xml_real;
+
+/// `copyright` of every model description (the LICENSE file at the repository's top).
+pub const COPYRIGHT: &str = "Copyright (c) 2026 the connector_fmu authors";
+/// `license` of every model description (Cargo.toml's licence; the text is in LICENSE).
+pub const LICENSE: &str = "MIT";
 use serde::Serialize;
 
 /// Capability flags, declared only for what works and is tested.
@@ -28,6 +35,14 @@ struct ModelDescription {
     guid: String,
     #[serde(rename = "@description")]
     description: &'static str,
+    #[serde(rename = "@author")]
+    author: &'static str,
+    #[serde(rename = "@version")]
+    version: &'static str,
+    #[serde(rename = "@copyright")]
+    copyright: &'static str,
+    #[serde(rename = "@license")]
+    license: &'static str,
     #[serde(rename = "@generationTool")]
     generation_tool: String,
     #[serde(rename = "@variableNamingConvention")]
@@ -161,12 +176,20 @@ struct RealAttrs {
     start: Option<String>,
     #[serde(rename = "@unit", skip_serializing_if = "Option::is_none")]
     unit: Option<&'static str>,
+    #[serde(rename = "@min", skip_serializing_if = "Option::is_none")]
+    min: Option<String>,
+    #[serde(rename = "@max", skip_serializing_if = "Option::is_none")]
+    max: Option<String>,
 }
 
 #[derive(Serialize)]
 struct PlainAttrs {
     #[serde(rename = "@start", skip_serializing_if = "Option::is_none")]
     start: Option<String>,
+    #[serde(rename = "@min", skip_serializing_if = "Option::is_none")]
+    min: Option<String>,
+    #[serde(rename = "@max", skip_serializing_if = "Option::is_none")]
+    max: Option<String>,
 }
 
 #[derive(Serialize)]
@@ -207,17 +230,6 @@ const UNITS: [(&str, [i32; 4]); 13] = [
     ("s/m", [0, -1, 1, 0]),
     ("s", [0, 0, 1, 0]),
 ];
-
-/// A Real as the XML schema spells it (INF, -INF; shortest round-trip otherwise).
-pub fn xml_real(x: f64) -> String {
-    if x == f64::INFINITY {
-        "INF".to_string()
-    } else if x == f64::NEG_INFINITY {
-        "-INF".to_string()
-    } else {
-        format!("{x:?}")
-    }
-}
 
 /// The model description of a variant as XML text.
 pub fn model_description(v: Variant) -> String {
@@ -263,42 +275,31 @@ fn build(t: &Table) -> ModelDescription {
                 Variability::Discrete => "discrete",
                 Variability::Continuous => "continuous",
             },
-            ty: match v.start {
-                Start::Real(s) => TypeElement::Real(RealAttrs {
-                    start: s.map(xml_real),
-                    unit: if v.unit.is_empty() || v.unit == "1" {
-                        None
-                    } else {
-                        Some(v.unit)
-                    },
-                }),
-                Start::Integer(s) => TypeElement::Integer(PlainAttrs {
-                    start: s.map(|x| x.to_string()),
-                }),
-                Start::Boolean(s) => TypeElement::Boolean(PlainAttrs {
-                    start: s.map(|x| x.to_string()),
-                }),
+            ty: {
+                let (min, max) = v.range_text();
+                match v.start {
+                    Start::Real(_) => TypeElement::Real(RealAttrs {
+                        start: v.start_text(),
+                        unit: v.unit_text(),
+                        min,
+                        max,
+                    }),
+                    Start::Integer(_) => TypeElement::Integer(PlainAttrs {
+                        start: v.start_text(),
+                        min,
+                        max,
+                    }),
+                    // FMI 2.0's Boolean has no min/max (the table gives none)
+                    Start::Boolean(_) => TypeElement::Boolean(PlainAttrs {
+                        start: v.start_text(),
+                        min: None,
+                        max: None,
+                    }),
+                }
             },
         })
         .collect();
-    // 1-based indices for ModelStructure
-    let index_of = |pred: &dyn Fn(&crate::model::variables::VarSpec) -> bool| -> Vec<usize> {
-        t.vars
-            .iter()
-            .enumerate()
-            .filter(|(_, v)| pred(v))
-            .map(|(i, _)| i + 1)
-            .collect()
-    };
-    let all_inputs = index_of(&|v| v.causality == Causality::Input);
-    let pose_inputs = index_of(&|v| {
-        v.causality == Causality::Input
-            && matches!(
-                v.field,
-                crate::model::variables::Field::Input { idx, .. } if idx < 7
-            )
-    });
-    let params = index_of(&|v| v.causality == Causality::Parameter);
+    // ModelStructure: 1-based indices, from the table
     let join = |ix: &[usize]| {
         ix.iter()
             .map(|i| i.to_string())
@@ -307,28 +308,17 @@ fn build(t: &Table) -> ModelDescription {
     };
     let mut outputs = Vec::new();
     let mut initial = Vec::new();
-    for (i, v) in t.vars.iter().enumerate() {
-        if v.causality != Causality::Output {
-            continue;
+    for i in 0..t.vars.len() {
+        if let Some((inputs, init)) = t.dependencies(i) {
+            outputs.push(Unknown {
+                index: i + 1,
+                dependencies: join(&inputs),
+            });
+            initial.push(Unknown {
+                index: i + 1,
+                dependencies: join(&init),
+            });
         }
-        let inputs = match v.deps {
-            Deps::Pose => pose_inputs.clone(),
-            Deps::All => all_inputs.clone(),
-            Deps::None => Vec::new(),
-        };
-        let mut init = inputs.clone();
-        if v.deps != Deps::None {
-            init.extend(&params);
-            init.sort_unstable();
-        }
-        outputs.push(Unknown {
-            index: i + 1,
-            dependencies: join(&inputs),
-        });
-        initial.push(Unknown {
-            index: i + 1,
-            dependencies: join(&init),
-        });
     }
     use capabilities::*;
     ModelDescription {
@@ -336,6 +326,10 @@ fn build(t: &Table) -> ModelDescription {
         model_name: spec.model_identifier,
         guid: t.guid.clone(),
         description: spec.description,
+        author: env!("CARGO_PKG_AUTHORS"),
+        version: env!("CARGO_PKG_VERSION"),
+        copyright: COPYRIGHT,
+        license: LICENSE,
         generation_tool: format!("connector_fmu {}", env!("CARGO_PKG_VERSION")),
         naming: "structured",
         event_indicators: 0,
