@@ -485,7 +485,7 @@ mod tests {
     };
     use super::*;
     use crate::instance::Mode;
-    use crate::variables::Variant;
+    use crate::model::variables::Variant;
     use std::sync::{Arc, Mutex};
 
     /// Records messages for inspection.

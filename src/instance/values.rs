@@ -69,7 +69,7 @@ impl ModelInstance {
         vrs: &[u32],
         values: &[T],
         ty: Ty,
-        write: impl Fn(&mut Params, &mut [NodeInputs; 2], &VarSpec, T) -> Result<(), &'static str>,
+        write: impl Fn(&mut Params, &mut [NodeInputs; 2], &VarSpec, T) -> Result<(), String>,
     ) -> FmuResult<()> {
         self.allowed(Call::Set)?;
         let mut touches_params = false;
@@ -152,7 +152,7 @@ impl ModelInstance {
                 p.ref_given[k as usize] = x;
                 Ok(())
             }
-            _ => Err("is not a Boolean"),
+            _ => Err("is not a Boolean".to_string()),
         })
     }
 

@@ -72,111 +72,96 @@ pub fn node_loads(o: &Outputs) -> [Real; 12] {
     ]
 }
 
-/// Writes a Real value into parameters or inputs after checking it.
+/// Whether `x` may be stored in `v`, from the variable's row alone (the one place ranges are
+/// checked: the setters, the start values and a decoded FMU state all come through here):
+/// never NaN; infinite only where the row's start is infinite (a stop limit that is not set,
+/// no force cap); within the row's `[min, max]`. Relations between parameters (lower stop ≤
+/// upper stop, μ_k ≤ μ_s) are the physics' (`Params::check`).
+pub fn check_real(v: &VarSpec, x: Real) -> Result<(), String> {
+    let infinite_start = matches!(v.start, Start::Real(Some(s)) if s.is_infinite());
+    if x.is_nan() || (x.is_infinite() && !infinite_start) {
+        return Err("is not finite".to_string());
+    }
+    check_range(v, x)
+}
+
+/// `x` within the row's `[min, max]` (FMI's inclusive bounds; the smallest positive double as
+/// the minimum means "> 0").
+fn check_range(v: &VarSpec, x: Real) -> Result<(), String> {
+    match (v.min, v.max) {
+        (Some(min), _) if x < min && min == Real::from_bits(1) => Err("must be > 0".to_string()),
+        (Some(min), _) if x < min => Err(format!("must be ≥ {min:?}")),
+        (_, Some(max)) if x > max => Err(format!("must be ≤ {max:?}")),
+        _ => Ok(()),
+    }
+}
+
+/// Writes a Real value into parameters or inputs after checking it against its row.
 pub fn write_real(
     p: &mut Params,
     u: &mut [NodeInputs; 2],
     v: &VarSpec,
     x: Real,
-) -> Result<(), &'static str> {
-    let finite = |x: Real| {
-        if x.is_finite() {
-            Ok(x)
-        } else {
-            Err("is not finite")
-        }
-    };
-    let nonneg = |x: Real| {
-        if !x.is_finite() {
-            Err("is not finite")
-        } else if x < 0.0 {
-            Err("must not be negative")
-        } else {
-            Ok(x)
-        }
-    };
+) -> Result<(), String> {
+    check_real(v, x)?;
     match v.field {
-        Field::Input { node, idx } => u[node as usize][idx as usize] = finite(x)?,
+        Field::Input { node, idx } => u[node as usize][idx as usize] = x,
         Field::CompParam { par, k } => {
             let k = k as usize;
             match par {
-                CompPar::Stiffness => p.k[k] = nonneg(x)?,
-                CompPar::Damping => p.c[k] = nonneg(x)?,
-                CompPar::RefValue => p.ref_value[k] = finite(x)?,
-                CompPar::StopLower | CompPar::StopUpper => {
-                    if x.is_nan() {
-                        return Err("is NaN");
-                    }
-                    if par == CompPar::StopLower {
-                        p.stop_lower[k] = x
-                    } else {
-                        p.stop_upper[k] = x
-                    }
-                }
-                CompPar::RefGiven => return Err("is not a Real"),
+                CompPar::Stiffness => p.k[k] = x,
+                CompPar::Damping => p.c[k] = x,
+                CompPar::RefValue => p.ref_value[k] = x,
+                CompPar::StopLower => p.stop_lower[k] = x,
+                CompPar::StopUpper => p.stop_upper[k] = x,
+                CompPar::RefGiven => return Err("is not a Real".to_string()),
             }
         }
         Field::Param(s) => {
             use ScalarPar::*;
             let fr = &mut p.friction;
             match s {
-                StopK => p.stop.k = nonneg(x)?,
-                StopC => p.stop.c = nonneg(x)?,
-                StopKr => p.stop.k_rot = nonneg(x)?,
-                StopCr => p.stop.c_rot = nonneg(x)?,
-                ConK => p.constraint.k = nonneg(x)?,
-                ConC => p.constraint.c = nonneg(x)?,
-                ConKr => p.constraint.k_rot = nonneg(x)?,
-                ConCr => p.constraint.c_rot = nonneg(x)?,
-                MuS => fr.mu_static = nonneg(x)?,
-                MuK => fr.mu_kinetic = nonneg(x)?,
-                Decay => fr.decay = nonneg(x)?,
-                Radius => fr.radius = nonneg(x)?,
-                Fint => fr.f_int = finite(x)?,
-                Mint => fr.m_int = finite(x)?,
-                StickK | StickKr => {
-                    let v = nonneg(x)?;
-                    if v == 0.0 {
-                        return Err("must be > 0");
-                    }
-                    if s == StickK {
-                        fr.k_stick = v
-                    } else {
-                        fr.k_stick_r1 = v
-                    }
-                }
-                StickC => fr.c_stick = nonneg(x)?,
-                StickCr => fr.c_stick_r1 = nonneg(x)?,
-                MaxForce => {
-                    if x.is_nan() || x < 0.0 {
-                        return Err("must be >= 0 (+INF: no cap)");
-                    }
-                    fr.max_force = x
-                }
-                MaxSubstep => p.max_substep = nonneg(x)?,
-                Coupling | Extrapolation => return Err("is not a Real"),
+                StopK => p.stop.k = x,
+                StopC => p.stop.c = x,
+                StopKr => p.stop.k_rot = x,
+                StopCr => p.stop.c_rot = x,
+                ConK => p.constraint.k = x,
+                ConC => p.constraint.c = x,
+                ConKr => p.constraint.k_rot = x,
+                ConCr => p.constraint.c_rot = x,
+                MuS => fr.mu_static = x,
+                MuK => fr.mu_kinetic = x,
+                Decay => fr.decay = x,
+                Radius => fr.radius = x,
+                Fint => fr.f_int = x,
+                Mint => fr.m_int = x,
+                StickK => fr.k_stick = x,
+                StickKr => fr.k_stick_r1 = x,
+                StickC => fr.c_stick = x,
+                StickCr => fr.c_stick_r1 = x,
+                MaxForce => fr.max_force = x,
+                MaxSubstep => p.max_substep = x,
+                Coupling | Extrapolation => return Err("is not a Real".to_string()),
             }
         }
-        _ => return Err("cannot be set"),
+        _ => return Err("cannot be set".to_string()),
     }
     Ok(())
 }
 
-/// Writes an Integer parameter after checking it.
-pub fn write_int(p: &mut Params, v: &VarSpec, x: i32) -> Result<(), &'static str> {
+/// Writes an Integer parameter after checking it against its row's `[min, max]`.
+pub fn write_int(p: &mut Params, v: &VarSpec, x: i32) -> Result<(), String> {
+    check_range(v, Real::from(x))?;
     match v.field {
-        Field::Param(ScalarPar::Coupling) => match x {
-            0 | 1 => p.friction.coupling = x,
-            _ => return Err("must be 0 or 1"),
-        },
+        Field::Param(ScalarPar::Coupling) => p.friction.coupling = x,
         Field::Param(ScalarPar::Extrapolation) => {
-            p.extrapolation = match x {
-                0 => Extrapolation::Hold,
-                1 => Extrapolation::Linear,
-                _ => return Err("must be 0 (hold) or 1 (linear)"),
+            p.extrapolation = if x == 0 {
+                Extrapolation::Hold
+            } else {
+                Extrapolation::Linear
             }
         }
-        _ => return Err("is not an Integer"),
+        _ => return Err("is not an Integer".to_string()),
     }
     Ok(())
 }
@@ -307,7 +292,7 @@ pub fn non_finite_cause(t: &Table, o: &Outputs, inputs: &[NodeInputs; 2]) -> Str
         })
         .max_by(|(_, x), (_, y)| x.abs().total_cmp(&y.abs()));
     let output = match output {
-        Some((v, x)) => format!("output {} would be {x:?}", v.name),
+        Some((v, x)) => format!("output {} would be {x:?}, not finite", v.name),
         None => "an output would not be finite".to_string(),
     };
     match input {

@@ -246,7 +246,7 @@ pub fn decode(t: &Table, bytes: &[u8]) -> Result<Snapshot, String> {
         .iter()
         .filter(|v| v.causality == Causality::Parameter)
     {
-        let bad = |why: &str| format!("parameter {} {why}", v.name);
+        let bad = |why: String| format!("parameter {} {why}", v.name);
         match v.start {
             Start::Real(_) => write_real(&mut params, &mut inputs, v, r.f_any()?).map_err(bad)?,
             Start::Integer(_) => {
@@ -262,7 +262,7 @@ pub fn decode(t: &Table, bytes: &[u8]) -> Result<Snapshot, String> {
                     },
                     x @ (0 | 1),
                 ) => params.ref_given[k as usize] = x == 1,
-                _ => return Err(bad("is not a Boolean 0 or 1")),
+                _ => return Err(bad("is not a Boolean 0 or 1".to_string())),
             },
         }
     }

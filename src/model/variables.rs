@@ -650,7 +650,7 @@ use Variability::{Fixed, Tunable};
 
 /// Every variable of every variant, value references written out. A row's start equals the
 /// physics' default (`Params::default`, checked by a test); its range is what the setters
-/// accept (`instance::write_real`, `write_int`) and its description is what a user reads.
+/// accept (`model::access::check_real`, `write_int`) and its description is what a user reads.
 #[rustfmt::skip]
 const ROWS: &[Row] = &[
     // ---- inputs: node poses and twists in W (node a: VR 1..13, node b: VR 21..33)

@@ -101,24 +101,10 @@ impl Default for Params {
 }
 
 impl Params {
-    /// Parameter values a connector cannot use, named as in the model description.
+    /// Relations between parameters that a connector needs (each value's own range is the
+    /// variable table's, checked when it is set): a lower stop not above its upper stop, and
+    /// friction's (`FrictionParams::check`). Names the parameters as the model description does.
     pub fn check(&self, roles: &[Role; 6]) -> Result<(), &'static str> {
-        const K: [&str; 6] = [
-            "elasticity.k1",
-            "elasticity.k2",
-            "elasticity.k3",
-            "elasticity.k4",
-            "elasticity.k5",
-            "elasticity.k6",
-        ];
-        const C: [&str; 6] = [
-            "damping.c1",
-            "damping.c2",
-            "damping.c3",
-            "damping.c4",
-            "damping.c5",
-            "damping.c6",
-        ];
         const S: [&str; 6] = [
             "stop.lower1 > stop.upper1",
             "stop.lower2 > stop.upper2",
@@ -128,33 +114,8 @@ impl Params {
             "stop.lower6 > stop.upper6",
         ];
         for i in 0..6 {
-            if roles[i] != Role::Available {
-                continue;
-            }
-            if self.k[i] < 0.0 {
-                return Err(K[i]);
-            }
-            if self.c[i] < 0.0 {
-                return Err(C[i]);
-            }
-            if self.stop_lower[i] > self.stop_upper[i] {
+            if roles[i] == Role::Available && self.stop_lower[i] > self.stop_upper[i] {
                 return Err(S[i]);
-            }
-        }
-        let pen = [
-            (self.stop.k, "stop.stiffness"),
-            (self.stop.c, "stop.damping"),
-            (self.stop.k_rot, "stop.rotStiffness"),
-            (self.stop.c_rot, "stop.rotDamping"),
-            (self.constraint.k, "constraint.stiffness"),
-            (self.constraint.c, "constraint.damping"),
-            (self.constraint.k_rot, "constraint.rotStiffness"),
-            (self.constraint.c_rot, "constraint.rotDamping"),
-            (self.max_substep, "cosim.maxSubstep"),
-        ];
-        for (v, name) in pen {
-            if v < 0.0 {
-                return Err(name);
             }
         }
         self.friction.check()
