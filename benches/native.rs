@@ -30,7 +30,7 @@
 
 use connector_fmu::fmi2::exports as fmi;
 use connector_fmu::fmi2::types::{
-    fmi2CallbackFunctions, fmi2CallbackLogger, fmi2Component, fmi2FMUstate, fmi2False, fmi2Status,
+    fmi2CallbackFunctions, fmi2Component, fmi2FMUstate, fmi2False, fmi2Status,
 };
 use connector_fmu::variables::{table, Causality, Field, Variant};
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -42,6 +42,10 @@ use std::time::{Duration, Instant};
 
 #[path = "../empty_fmu/src/imp.rs"]
 mod empty;
+
+// The logger, callback struct and value lookups shared with the tests and the fuzz harness.
+#[path = "../tests/common/mod.rs"]
+mod support;
 
 // ---------------------------------------------------------------- counting allocator
 
@@ -230,18 +234,61 @@ fn smooth(t: f64) -> Pose {
     p
 }
 
-/// PLANAR (as tests/python PlanarSlide): node a at rest; node b slides in a's 2–3 plane along a
-/// parabolic arc b = (X0, Y0 + A s, Z0 + B s²), s = sin ωt (the sliding direction turns, both
-/// rates vanish at the ends so the friction sticks there) and spins about e1 by
-/// ψ = PSI0 + PS sin 1.5ωt.
+/// The parameter sets and paths shared with tests/python (tests/data/parameter_sets.json).
+#[derive(serde::Deserialize)]
+struct Shared {
+    spring_damper: SpringDamper,
+    planar_friction: PlanarFriction,
+    planar_slide: PlanarSlide,
+}
+
+#[derive(serde::Deserialize)]
+struct SpringDamper {
+    k_translational: [f64; 3],
+    k_rotational: [f64; 3],
+    c_translational: [f64; 3],
+    c_rotational: [f64; 3],
+}
+
+#[derive(serde::Deserialize)]
+struct PlanarFriction {
+    values: Vec<(String, f64)>,
+}
+
+#[derive(serde::Deserialize)]
+#[allow(non_snake_case)]
+struct PlanarSlide {
+    X0: f64,
+    Y0: f64,
+    Z0: f64,
+    A: f64,
+    B: f64,
+    PSI0: f64,
+    PS: f64,
+}
+
+fn shared() -> &'static Shared {
+    static SHARED: std::sync::OnceLock<Shared> = std::sync::OnceLock::new();
+    SHARED.get_or_init(|| {
+        serde_json::from_str(include_str!("../tests/data/parameter_sets.json"))
+            .expect("tests/data/parameter_sets.json")
+    })
+}
+
+/// PLANAR (`planar_slide` of tests/data/parameter_sets.json, as tests/python PlanarSlide): node
+/// a at rest; node b slides in a's 2–3 plane along a parabolic arc b = (X0, Y0 + A s, Z0 + B s²),
+/// s = sin ωt (the sliding direction turns, both rates vanish at the ends so the friction sticks
+/// there) and spins about e1 by ψ = PSI0 + PS sin 1.5ωt.
 fn planar(t: f64) -> Pose {
-    const X0: f64 = 0.1;
-    const Y0: f64 = 0.2;
-    const Z0: f64 = -0.1;
-    const A: f64 = 0.02;
-    const B: f64 = 0.008;
-    const PSI0: f64 = 0.3;
-    const PS: f64 = 0.05;
+    let PlanarSlide {
+        X0,
+        Y0,
+        Z0,
+        A,
+        B,
+        PSI0,
+        PS,
+    } = shared().planar_slide;
     let om = 2.0 * std::f64::consts::PI;
     let (s, c) = (om * t).sin_cos();
     let ds = om * c;
@@ -298,59 +345,7 @@ fn position_name(k: usize) -> String {
     }
 }
 
-fn vr_of(v: Variant, name: &str) -> u32 {
-    table(v)
-        .vars
-        .iter()
-        .find(|x| x.name == name)
-        .unwrap_or_else(|| panic!("{} has no variable {name}", name_of(v)))
-        .vr
-}
-
 // ---------------------------------------------------------------- instances
-
-extern "C" fn logger(
-    _env: *mut c_void,
-    instance: *const c_char,
-    status: c_int,
-    category: *const c_char,
-    message: *const c_char,
-) {
-    let s = |p: *const c_char| {
-        if p.is_null() {
-            String::from("<NULL>")
-        } else {
-            // SAFETY: NUL-terminated strings alive during the call.
-            unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned()
-        }
-    };
-    eprintln!(
-        "[{}] status {status} {}: {}",
-        s(instance),
-        s(category),
-        s(message)
-    );
-}
-
-fn callbacks() -> fmi2CallbackFunctions {
-    let plain: extern "C" fn(*mut c_void, *const c_char, c_int, *const c_char, *const c_char) =
-        logger;
-    // SAFETY: as in tests/common: the FMU calls the logger with the five fixed arguments only,
-    // whose types have the same ABI (fmi2Status is a #[repr(C)] enum passed as int).
-    let logger = unsafe {
-        std::mem::transmute::<
-            extern "C" fn(*mut c_void, *const c_char, c_int, *const c_char, *const c_char),
-            fmi2CallbackLogger,
-        >(plain)
-    };
-    fmi2CallbackFunctions {
-        logger: Some(logger),
-        allocateMemory: None,
-        freeMemory: None,
-        stepFinished: None,
-        componentEnvironment: std::ptr::null_mut(),
-    }
-}
 
 /// An initialized instance with its value references and its precomputed input path.
 struct Inst {
@@ -362,6 +357,8 @@ struct Inst {
     /// Steps taken (the next step starts at step·H).
     step: usize,
     empty: bool,
+    /// The componentEnvironment key its messages are logged under (tests/common).
+    env: usize,
 }
 
 impl Drop for Inst {
@@ -371,12 +368,14 @@ impl Drop for Inst {
         } else {
             fmi::fmi2FreeInstance(self.c);
         }
+        support::forget_log(self.env);
     }
 }
 
+/// Asserts OK; on failure shows what the instance logged under `env`.
 #[track_caller]
-fn ok(s: fmi2Status, what: &str) {
-    assert_eq!(s, fmi2Status::OK, "{what}");
+fn ok(env: usize, s: fmi2Status, what: &str) {
+    assert_eq!(s, fmi2Status::OK, "{what}: {:?}", support::log_of(env));
 }
 
 /// Inputs (value references, index into Pose) and node-load outputs of a variant.
@@ -409,19 +408,21 @@ fn path_of(v: Variant, sel: &[usize]) -> Vec<f64> {
 fn real_instance(v: Variant, params: &[(String, f64)]) -> Inst {
     let (vin, sel, vout) = interface(v);
     let path = path_of(v, &sel);
-    let cb = callbacks();
-    let name = CString::new("bench").unwrap();
-    let guid = CString::new(table(v).guid.clone()).unwrap();
-    let c = fmi::fmi2Instantiate(
-        name.as_ptr(),
-        1,
-        guid.as_ptr(),
-        c"".as_ptr(),
-        &cb,
-        fmi2False,
-        fmi2False,
+    let env = support::new_env();
+    let cb = support::callbacks(env);
+    let c = support::instantiate_raw(
+        Some("bench"),
+        support::CO_SIMULATION,
+        Some(&support::guid(v)),
+        Some(&cb),
+        false,
     );
-    assert!(!c.is_null(), "fmi2Instantiate refused {}", name_of(v));
+    assert!(
+        !c.is_null(),
+        "fmi2Instantiate refused {}: {:?}",
+        name_of(v),
+        support::log_of(env)
+    );
     let inst = Inst {
         c,
         vin,
@@ -429,20 +430,23 @@ fn real_instance(v: Variant, params: &[(String, f64)]) -> Inst {
         path,
         step: 0,
         empty: false,
+        env,
     };
     for (n, x) in params {
-        ok(fmi::fmi2SetReal(c, &vr_of(v, n), 1, x), n);
+        ok(env, fmi::fmi2SetReal(c, &support::vr(v, n), 1, x), n);
     }
     ok(
+        env,
         fmi::fmi2SetupExperiment(c, fmi2False, 0.0, 0.0, fmi2False, 0.0),
         "setup",
     );
-    ok(fmi::fmi2EnterInitializationMode(c), "enter init");
+    ok(env, fmi::fmi2EnterInitializationMode(c), "enter init");
     ok(
+        env,
         fmi::fmi2SetReal(c, inst.vin.as_ptr(), inst.vin.len(), inst.path.as_ptr()),
         "inputs at 0",
     );
-    ok(fmi::fmi2ExitInitializationMode(c), "exit init");
+    ok(env, fmi::fmi2ExitInitializationMode(c), "exit init");
     inst
 }
 
@@ -450,7 +454,8 @@ fn real_instance(v: Variant, params: &[(String, f64)]) -> Inst {
 fn empty_instance(like: &Inst) -> Inst {
     let name = CString::new("empty").unwrap();
     let guid = CString::new(empty::GUID).unwrap();
-    let cb = callbacks();
+    let env = support::new_env();
+    let cb = support::callbacks(env);
     let e = empty_fmu();
     let c = (e.instantiate)(
         name.as_ptr(),
@@ -472,6 +477,7 @@ fn empty_instance(like: &Inst) -> Inst {
         path: like.path.clone(),
         step: 0,
         empty: true,
+        env,
     };
     assert_eq!((e.setup_experiment)(c, 0, 0.0, 0.0, 0, 0.0), empty::OK);
     assert_eq!((e.enter_initialization_mode)(c), empty::OK);
@@ -483,8 +489,11 @@ fn empty_instance(like: &Inst) -> Inst {
 
 #[cold]
 #[inline(never)]
-fn step_failed<R: std::fmt::Debug>(step: usize, s: [R; 3]) -> ! {
-    panic!("round at step {step} failed: set/doStep/get returned {s:?}");
+fn step_failed<R: std::fmt::Debug>(env: usize, step: usize, s: [R; 3]) -> ! {
+    panic!(
+        "round at step {step} failed: set/doStep/get returned {s:?}: {:?}",
+        support::log_of(env)
+    );
 }
 
 /// `n` rounds set + doStep + get; the wall time of the whole loop.
@@ -505,7 +514,7 @@ fn rounds<R: Copy + PartialEq + std::fmt::Debug>(api: &Api<R>, f: &mut Inst, n: 
         let s2 = step(f.c, k as f64 * H, H, 0);
         let s3 = get(f.c, f.vout.as_ptr(), n_out, out.as_mut_ptr());
         if s1 != api.ok || s2 != api.ok || s3 != api.ok {
-            step_failed(k, [s1, s2, s3]);
+            step_failed(f.env, k, [s1, s2, s3]);
         }
         black_box(&out);
         f.step = k + 1;
@@ -549,7 +558,7 @@ fn do_steps<R: Copy + PartialEq + std::fmt::Debug>(
         acc += t0.elapsed();
         let s3 = get(f.c, f.vout.as_ptr(), n_out, out.as_mut_ptr());
         if s1 != api.ok || s2 != api.ok || s3 != api.ok {
-            step_failed(k, [s1, s2, s3]);
+            step_failed(f.env, k, [s1, s2, s3]);
         }
         black_box(&out);
         f.step = k + 1;
@@ -610,33 +619,16 @@ struct Settings {
 fn params_on(v: Variant) -> Vec<(String, f64)> {
     let mut p: Vec<(String, f64)> = vec![];
     if v == Variant::Planar {
-        // as PLANAR_FRICTION in tests/python/test_fmpy_cosim.py
-        for (n, x) in [
-            ("elasticity.k2", 200.0),
-            ("elasticity.k3", 200.0),
-            ("elasticity.k4", 5.0),
-            ("damping.c2", 2.0),
-            ("damping.c3", 2.0),
-            ("damping.c4", 0.05),
-            ("friction.muStatic", 0.4),
-            ("friction.muKinetic", 0.3),
-            ("friction.decay", 2.0),
-            ("friction.R", 0.05),
-            ("friction.Fint", 100.0),
-            ("friction.Mint", 2.0),
-            ("friction.stickStiffness", 1.0e4),
-            ("friction.stickStiffnessR1", 100.0),
-        ] {
-            p.push((n.into(), x));
-        }
+        // `planar_friction` of tests/data/parameter_sets.json (tests/python PLANAR_FRICTION)
+        p.extend(shared().planar_friction.values.iter().cloned());
     } else {
-        let (kt, kr) = ([1000.0, 1500.0, 800.0], [50.0, 40.0, 60.0]);
-        let (ct, cr) = ([10.0, 12.0, 8.0], [0.5, 0.4, 0.6]);
+        // `spring_damper` of tests/data/parameter_sets.json (tests/python spring_damper_params)
+        let sd = &shared().spring_damper;
         for k in components(v) {
             let (kk, cc) = if k <= 3 {
-                (kt[k - 1], ct[k - 1])
+                (sd.k_translational[k - 1], sd.c_translational[k - 1])
             } else {
-                (kr[k - 4], cr[k - 4])
+                (sd.k_rotational[k - 4], sd.c_rotational[k - 4])
             };
             p.push((format!("elasticity.k{k}"), kk));
             p.push((format!("damping.c{k}"), cc));
@@ -646,13 +638,17 @@ fn params_on(v: Variant) -> Vec<(String, f64)> {
     // a pre-pass with the defaults gives them)
     let stops = stop_components(v);
     let mut pre = real_instance(v, &[]);
-    let vrs: Vec<u32> = stops.iter().map(|&k| vr_of(v, &position_name(k))).collect();
+    let vrs: Vec<u32> = stops
+        .iter()
+        .map(|&k| support::vr(v, &position_name(k)))
+        .collect();
     let mut lo = vec![f64::INFINITY; stops.len()];
     let mut hi = vec![f64::NEG_INFINITY; stops.len()];
     let mut x = vec![0.0; stops.len()];
     for _ in 0..PERIOD {
         rounds(&REAL, &mut pre, 1);
         ok(
+            pre.env,
             fmi::fmi2GetReal(pre.c, vrs.as_ptr(), vrs.len(), x.as_mut_ptr()),
             "positions",
         );
@@ -677,7 +673,7 @@ fn params_on(v: Variant) -> Vec<(String, f64)> {
 fn stop_status_vrs(v: Variant) -> Vec<u32> {
     stop_components(v)
         .iter()
-        .map(|k| vr_of(v, &format!("CSLST{k}")))
+        .map(|k| support::vr(v, &format!("CSLST{k}")))
         .collect()
 }
 
@@ -696,6 +692,7 @@ fn run_case(case: &Case, params: &[(String, f64)], s: &Settings) -> Row {
         for _ in 0..PERIOD {
             rounds(&REAL, &mut f, 1);
             ok(
+                f.env,
                 fmi::fmi2GetInteger(f.c, vrs.as_ptr(), vrs.len(), st.as_mut_ptr()),
                 "CSLST",
             );
@@ -731,13 +728,22 @@ fn run_case(case: &Case, params: &[(String, f64)], s: &Settings) -> Row {
     let allocs = ALLOCS.load(Ordering::SeqCst) - before;
 
     let mut state: fmi2FMUstate = std::ptr::null_mut();
-    ok(fmi::fmi2GetFMUstate(f.c, &mut state), "fmi2GetFMUstate");
+    ok(
+        f.env,
+        fmi::fmi2GetFMUstate(f.c, &mut state),
+        "fmi2GetFMUstate",
+    );
     let mut state_bytes = 0usize;
     ok(
+        f.env,
         fmi::fmi2SerializedFMUstateSize(f.c, state, &mut state_bytes),
         "fmi2SerializedFMUstateSize",
     );
-    ok(fmi::fmi2FreeFMUstate(f.c, &mut state), "fmi2FreeFMUstate");
+    ok(
+        f.env,
+        fmi::fmi2FreeFMUstate(f.c, &mut state),
+        "fmi2FreeFMUstate",
+    );
 
     let target = match (v, case.on) {
         (Variant::Bushing, true) => Some(40.0),

@@ -1,6 +1,7 @@
 //! The FMI call-sequence fuzz harness, shared by the libFuzzer target
 //! (`fuzz/fuzz_targets/fmi_calls.rs`) and its deterministic replay in `cargo test`
-//! (`tests/fuzz_smoke.rs`, included there with `#[path]`).
+//! (`tests/fuzz_smoke.rs`, included there with `#[path]`). Logger, callbacks and the checksum
+//! come from the tests' support module (`tests/common/mod.rs`, included here with `#[path]`).
 //!
 //! The input bytes are a program: a header that instantiates one variant (or tries a bad
 //! GUID, type, name or callback struct), then a sequence of operations on up to two instances,
@@ -26,74 +27,23 @@
 use connector_fmu::fmi2::exports::*;
 use connector_fmu::fmi2::types::*;
 use connector_fmu::variables::{table, Causality, Start, Variability, Variant, VARIANTS};
-use std::cell::RefCell;
-use std::ffi::{c_char, c_int, c_void, CStr, CString};
+use std::ffi::{c_char, c_int, CString};
 use std::ptr::{null, null_mut};
 
 // ------------------------------------------------------------------ logger
 
-/// One message the FMU sent.
-#[derive(Clone, Debug)]
-pub struct Line {
-    pub status: c_int,
-    pub category: String,
-    pub message: String,
-}
+// The logger, callback struct and value lookups of the tests (one support module for the tests,
+// this harness and the benchmark). Each program logs under a componentEnvironment key of its own.
+#[path = "../tests/common/mod.rs"]
+mod support;
+use support::{LogLine, CO_SIMULATION};
 
-thread_local! {
-    /// Messages of the current program (the FMU calls the logger on the calling thread).
-    static LOG: RefCell<Vec<Line>> = const { RefCell::new(Vec::new()) };
-}
-
-fn text(p: *const c_char) -> String {
-    if p.is_null() {
-        return "<NULL>".into();
-    }
-    // SAFETY: the FMU passes NUL-terminated strings valid for the duration of the call.
-    unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned()
-}
-
-extern "C" fn logger(
-    _env: *mut c_void,
-    _instance: *const c_char,
-    status: c_int,
-    category: *const c_char,
-    message: *const c_char,
-) {
-    let line = Line {
-        status,
-        category: text(category),
-        message: text(message),
-    };
-    LOG.with(|l| l.borrow_mut().push(line));
-}
-
-fn log_len() -> usize {
-    LOG.with(|l| l.borrow().len())
-}
-
-fn log_since(n: usize) -> Vec<Line> {
-    LOG.with(|l| l.borrow()[n..].to_vec())
-}
-
-/// The callback struct (a five-argument function called through the variadic pointer type,
-/// as tests/common does: the FMU passes exactly the five fixed arguments).
-pub fn callbacks(with_logger: bool) -> fmi2CallbackFunctions {
-    let plain: extern "C" fn(*mut c_void, *const c_char, c_int, *const c_char, *const c_char) =
-        logger;
-    // SAFETY: see tests/common/mod.rs `callbacks`: same ABI for the five fixed arguments.
-    let logger = unsafe {
-        std::mem::transmute::<
-            extern "C" fn(*mut c_void, *const c_char, c_int, *const c_char, *const c_char),
-            fmi2CallbackLogger,
-        >(plain)
-    };
+/// The callback struct of program `env`, with or without a logger.
+fn callbacks(env: usize, with_logger: bool) -> fmi2CallbackFunctions {
+    let cb = support::callbacks(env);
     fmi2CallbackFunctions {
-        logger: with_logger.then_some(logger),
-        allocateMemory: None,
-        freeMemory: None,
-        stepFinished: None,
-        componentEnvironment: null_mut(),
+        logger: cb.logger.filter(|_| with_logger),
+        ..cb
     }
 }
 
@@ -242,7 +192,6 @@ impl<'a> Bytes<'a> {
 // ------------------------------------------------------------------ the program state
 
 const OK: fmi2Status = fmi2Status::OK;
-const CO_SIMULATION: c_int = 1;
 /// Upper bound of DoStep calls per program (each can take up to MAX_SUBSTEPS substeps).
 const MAX_STEPS: usize = 24;
 /// Upper bound of operations per program.
@@ -260,7 +209,17 @@ struct Slot {
     variant: Variant,
 }
 
+/// The componentEnvironment key a program's instances log under; its messages are dropped with it.
+struct Env(usize);
+
+impl Drop for Env {
+    fn drop(&mut self) {
+        support::forget_log(self.0);
+    }
+}
+
 struct Program<'a> {
+    env: Env,
     b: Bytes<'a>,
     inst: [Option<Inst>; 2],
     slots: [Slot; 4],
@@ -273,18 +232,12 @@ fn variant_of(i: usize) -> Variant {
     VARIANTS[i % VARIANTS.len()].variant
 }
 
-/// FNV-1a 64, as `state_bytes` computes the trailer: lets mutated bytes pass the checksum so
-/// that the field validation behind it is exercised.
-fn fnv(bytes: &[u8]) -> u64 {
-    bytes.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| {
-        (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
-    })
-}
-
+/// Rewrites the checksum trailer of serialized state bytes (FNV-1a 64): lets mutated bytes
+/// pass the checksum so that the field validation behind it is exercised.
 fn fix_checksum(bytes: &mut [u8]) {
     if bytes.len() >= 8 {
         let n = bytes.len() - 8;
-        let sum = fnv(&bytes[..n]);
+        let sum = support::fnv1a(&bytes[..n]);
         bytes[n..].copy_from_slice(&sum.to_le_bytes());
     }
 }
@@ -345,8 +298,8 @@ impl<'a> Program<'a> {
 
     /// Checks invariants 1, 2 (and 4 through `before`) for one call on instance `i`.
     fn check(&mut self, i: usize, fname: &str, n0: usize, s: fmi2Status, before: Option<Vec<u8>>) {
-        let lines = log_since(n0);
-        let bad: Vec<&Line> = lines.iter().filter(|l| l.status != 0).collect();
+        let lines = support::log_since(self.env.0, n0);
+        let bad: Vec<&LogLine> = lines.iter().filter(|l| l.status != 0).collect();
         if s == fmi2Status::Fatal {
             self.fail(format!("{fname} returned fmi2Fatal: {lines:?}"));
         }
@@ -407,7 +360,7 @@ impl<'a> Program<'a> {
         };
         let c = inst.c;
         let before = state_bytes(inst);
-        let n0 = log_len();
+        let n0 = support::log_len(self.env.0);
         let s = f(c);
         self.check(i, fname, n0, s, before);
         s
@@ -502,12 +455,12 @@ impl<'a> Program<'a> {
         };
         let logging_on = (flags >> 7) & 1;
         let cb_kind = self.b.u8() % 16;
-        let cb = callbacks(cb_kind != 15);
+        let cb = callbacks(self.env.0, cb_kind != 15);
         let cb_ptr: *const fmi2CallbackFunctions = if cb_kind == 14 { null() } else { &cb };
         let has_logger = cb_kind < 14;
         valid &= has_logger;
         let ptr = |s: &Option<CString>| s.as_ref().map_or(null(), |s| s.as_ptr());
-        let n0 = log_len();
+        let n0 = support::log_len(self.env.0);
         let c = fmi2Instantiate(
             ptr(&name),
             fmu_type,
@@ -525,10 +478,10 @@ impl<'a> Program<'a> {
             if valid {
                 self.fail(format!(
                     "fmi2Instantiate refused valid arguments: {:?}",
-                    log_since(n0)
+                    support::log_since(self.env.0, n0)
                 ));
             }
-            let lines = log_since(n0);
+            let lines = support::log_since(self.env.0, n0);
             if has_logger && (lines.len() != 1 || lines[0].status != fmi2Status::Error as c_int) {
                 self.fail(format!(
                     "fmi2Instantiate refusal must log one error: {lines:?}"
@@ -651,12 +604,12 @@ impl<'a> Program<'a> {
             buf.truncate(n);
             // invariant 5: the bytes are accepted and re-serialize identically
             let mut back: fmi2FMUstate = null_mut();
-            let n_log = log_len();
+            let n_log = support::log_len(self.env.0);
             let s3 = self.call(i, "fmi2DeSerializeFMUstate", |c| {
                 fmi2DeSerializeFMUstate(c, buf.as_ptr().cast(), n, &mut back)
             });
             if s3 != OK {
-                let why: Vec<Line> = log_since(n_log)
+                let why: Vec<LogLine> = support::log_since(self.env.0, n_log)
                     .into_iter()
                     .filter(|l| l.status != 0)
                     .collect();
@@ -1217,8 +1170,8 @@ impl<'a> Program<'a> {
 
 /// Runs one program. Panics when an invariant is violated.
 pub fn run(data: &[u8]) {
-    LOG.with(|l| l.borrow_mut().clear());
     let mut p = Program {
+        env: Env(support::new_env()),
         b: Bytes::new(data),
         inst: [None, None],
         slots: [Slot {
@@ -1238,7 +1191,7 @@ pub fn run(data: &[u8]) {
     // release every state through a live instance (making one when none is left), then the
     // instances: nothing may leak (LeakSanitizer checks under cargo fuzz)
     if p.slots.iter().any(|s| !s.s.is_null()) && p.inst.iter().all(Option::is_none) {
-        let cb = callbacks(true);
+        let cb = callbacks(p.env.0, true);
         let guid = CString::new(table(Variant::Bushing).guid.clone()).expect("no NUL");
         let c = fmi2Instantiate(
             c"cleanup".as_ptr(),
@@ -1268,7 +1221,6 @@ pub fn run(data: &[u8]) {
     if trace_wanted() {
         eprintln!("program of {} bytes: {:#?}", data.len(), p.trace);
     }
-    LOG.with(|l| l.borrow_mut().clear());
 }
 
 /// `FMI_FUZZ_TRACE=1` prints each program's operations (to read what an input does).

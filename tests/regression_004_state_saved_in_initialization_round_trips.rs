@@ -108,11 +108,7 @@ fn corrupt_cross_parameters_after_initialization_are_still_refused() {
     bytes[lo..lo + 8].copy_from_slice(&0.5f64.to_le_bytes());
     bytes[hi..hi + 8].copy_from_slice(&(-0.5f64).to_le_bytes());
     let body = n - 8;
-    let sum = bytes[..body]
-        .iter()
-        .fold(0xcbf2_9ce4_8422_2325u64, |h, &b| {
-            (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
-        });
+    let sum = common::fnv1a(&bytes[..body]);
     bytes[body..].copy_from_slice(&sum.to_le_bytes());
     let mut back: fmi2FMUstate = null_mut();
     let before = f.log_len();

@@ -7,6 +7,8 @@ over a macro step H.
   linear_implicit   linear-implicit with the FMU's directional derivatives (θ-method)
   rollback          iterative with rollback (fmi2Get/SetFMUstate) to a stated tolerance
 
+Loading, instantiating, initialising and name-based access are the shared driver's
+(scripts/cosim/driver.py, also the fmpy tests' driver); `Connector` adds the per-step path. Its
 FMI calls go through fmpy's FMU2Slave function wrappers (status checked) with ctypes buffers
 prepared once per instance: a step builds no value-reference lists or ctypes arrays (fmpy's
 convenience getReal/setReal would). The body arithmetic uses small numpy temporaries.
@@ -25,19 +27,17 @@ from __future__ import annotations
 import ctypes
 import math
 import os
-import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
-from fmpy import extract, read_model_description
 from fmpy.fmi1 import FMICallException
-from fmpy.fmi2 import FMU2Slave, fmi2FMUstate, fmi2Integer, fmi2Real, fmi2ValueReference
+from fmpy.fmi2 import fmi2FMUstate, fmi2Integer, fmi2Real, fmi2ValueReference
+
+from . import driver
 
 REPO = Path(__file__).resolve().parents[2]
 DIST = Path(os.environ.get("COSIM_DIST", REPO / "dist"))     # the FMUs (default: dist/)
-_UNZIPPED: dict = {}
-_MD: dict = {}
 
 
 class CosimFailure(RuntimeError):
@@ -45,25 +45,22 @@ class CosimFailure(RuntimeError):
 
 
 def model_description(variant):
-    if variant not in _MD:
-        path = DIST / f"{variant}.fmu"
-        if not path.is_file():
-            raise SystemExit(f"error: {path} is missing; run ./scripts/run first")
-        _MD[variant] = read_model_description(str(path))
-    return _MD[variant]
+    try:
+        return driver.model_description(variant, DIST)
+    except driver.MissingFMU as e:
+        raise SystemExit(f"error: {e.path} is missing; run ./scripts/run first") from None
 
 
 def unzipped(variant, unzipdir=None):
     if unzipdir is not None:
         return str(unzipdir)
-    if variant not in _UNZIPPED:
-        _UNZIPPED[variant] = extract(str(DIST / f"{variant}.fmu"),
-                                     tempfile.mkdtemp(prefix=f"cosim-{variant}-"))
-    return _UNZIPPED[variant]
+    model_description(variant)
+    return driver.unzipped(variant, DIST)
 
 
-class Connector:
-    """One connector FMU instance, initialised, with every per-step call prepared once.
+class Connector(driver.Connector):
+    """One connector FMU instance (scripts/cosim/driver.py), initialised, with every per-step
+    call prepared once.
 
     `in_names`: the inputs the master writes each step (buffer `x`, derivatives `d`);
     `out_names`: the outputs it reads each step (buffer `y`)."""
@@ -71,23 +68,17 @@ class Connector:
     _count = 0
 
     def __init__(self, variant, params, init_inputs, in_names, out_names, unzipdir=None):
-        md = model_description(variant)
-        self.vr = {v.name: v for v in md.modelVariables}
+        model_description(variant)
         Connector._count += 1
-        s = FMU2Slave(guid=md.guid, unzipDirectory=unzipped(variant, unzipdir),
-                      modelIdentifier=md.coSimulation.modelIdentifier,
-                      instanceName=f"{variant}-{Connector._count}")
-        s.instantiate()
-        s.setupExperiment(startTime=0.0)
-        s.enterInitializationMode()
-        self._set_by_type(s, params)
-        self._set_by_type(s, init_inputs)
-        s.exitInitializationMode()
-        self.s, self.c = s, s.component
+        s = driver.instantiate(variant, unzipped(variant, unzipdir),
+                               instance_name=f"{variant}-{Connector._count}", dist=DIST)
+        super().__init__(variant, s, dist=DIST)
+        self.start(params, init_inputs)
+        self.c = s.component
         nin, nout = len(in_names), len(out_names)
         self.nin, self.nout = nin, nout
-        self.vin = (fmi2ValueReference * nin)(*[self.vr[n].valueReference for n in in_names])
-        self.vout = (fmi2ValueReference * nout)(*[self.vr[n].valueReference for n in out_names])
+        self.vin = (fmi2ValueReference * nin)(*[self.vr[n] for n in in_names])
+        self.vout = (fmi2ValueReference * nout)(*[self.vr[n] for n in out_names])
         self.xin, self.yout = (fmi2Real * nin)(), (fmi2Real * nout)()
         self.din, self.order = (fmi2Real * nin)(), (fmi2Integer * nin)(*([1] * nin))
         self.seed_c, self.dd_c = (fmi2Real * nin)(), (fmi2Real * nout)()
@@ -102,12 +93,6 @@ class Connector:
         self._dd, self._get, self._set = (s.fmi2GetDirectionalDerivative, s.fmi2GetFMUstate,
                                           s.fmi2SetFMUstate)
         self.calls = 0          # FMI calls made through the per-step paths
-
-    def _set_by_type(self, s, values):
-        for name, val in values.items():
-            v = self.vr[name]
-            {"Real": s.setReal, "Integer": s.setInteger, "Boolean": s.setBoolean}[v.type](
-                [v.valueReference], [val])
 
     # --- per-step calls (prepared buffers only) ------------------------------------------------
     def set_inputs(self):
@@ -142,17 +127,9 @@ class Connector:
         self._set(self.c, self.state)
         self.calls += 1
 
-    # --- slow paths (set-up, monitoring) -------------------------------------------------------
+    # --- slow paths (set-up, monitoring): driver.Connector's set and value ---------------------
     def read(self, names):
-        out = []
-        for n in names:
-            v = self.vr[n]
-            get = {"Real": self.s.getReal, "Integer": self.s.getInteger}[v.type]
-            out.append(get([v.valueReference])[0])
-        return out
-
-    def set(self, values):
-        self._set_by_type(self.s, values)
+        return [self.value(n) for n in names]
 
     def close(self):
         if self.s is not None:

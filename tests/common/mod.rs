@@ -1,13 +1,22 @@
-//! Shared helpers for the ABI tests: the tests link the rlib and call the `extern "C"`
-//! functions directly, as an importer would through the shared library.
+//! The one test support module for everything that calls the exported FMI functions directly,
+//! as an importer would through the shared library: the integration tests (`mod common;`), the
+//! fuzz harness (`fuzz/harness.rs`, also replayed by `tests/fuzz_smoke.rs`) and the native
+//! benchmark (`benches/native.rs`), the latter two through `#[path = ".../tests/common/mod.rs"]`.
+//!
+//! - the logger and the callback struct: messages recorded per componentEnvironment key
+//!   (`new_env`, `callbacks`, `log_of`, `log_len`, `log_since`, `forget_log`);
+//! - value references by name from the variable table (`vr`, `Fmu::vr`);
+//! - `instantiate_raw` and `Fmu`, an instance freed on drop, with checked calls;
+//! - `fnv1a`, the checksum of serialized FMU states.
 #![allow(dead_code)]
 
 use connector_fmu::fmi2::exports::*;
 use connector_fmu::fmi2::types::*;
 use connector_fmu::variables::{table, Causality, Start, Variant};
+use std::collections::BTreeMap;
 use std::ffi::{c_char, c_int, c_void, CStr, CString};
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::Mutex;
+use std::sync::{Mutex, MutexGuard};
 
 /// fmi2CoSimulation as the C int an importer passes.
 pub const CO_SIMULATION: c_int = 1;
@@ -25,9 +34,9 @@ pub struct LogLine {
     pub message: String,
 }
 
-/// Every message of every test, keyed by the componentEnvironment the test passed, so that
-/// tests running in parallel do not see each other's messages.
-static LOG: Mutex<Vec<(usize, LogLine)>> = Mutex::new(Vec::new());
+/// Every message, keyed by the componentEnvironment its instance was given, so that tests
+/// running in parallel do not see each other's messages.
+static LOG: Mutex<BTreeMap<usize, Vec<LogLine>>> = Mutex::new(BTreeMap::new());
 /// Source of unique componentEnvironment keys (never dereferenced, never reused).
 static NEXT_ENV: AtomicUsize = AtomicUsize::new(1);
 
@@ -53,9 +62,11 @@ extern "C" fn test_logger(
         category: text(category),
         message: text(message),
     };
-    LOG.lock()
-        .unwrap_or_else(|e| e.into_inner())
-        .push((env as usize, line));
+    log().entry(env as usize).or_default().push(line);
+}
+
+fn log() -> MutexGuard<'static, BTreeMap<usize, Vec<LogLine>>> {
+    LOG.lock().unwrap_or_else(|e| e.into_inner())
 }
 
 /// A fresh componentEnvironment key.
@@ -65,11 +76,24 @@ pub fn new_env() -> usize {
 
 /// The messages logged for `env` so far.
 pub fn log_of(env: usize) -> Vec<LogLine> {
-    let log = LOG.lock().unwrap_or_else(|e| e.into_inner());
-    log.iter()
-        .filter(|(e, _)| *e == env)
-        .map(|(_, l)| l.clone())
-        .collect()
+    log_since(env, 0)
+}
+
+/// The number of messages logged for `env` so far.
+pub fn log_len(env: usize) -> usize {
+    log().get(&env).map_or(0, Vec::len)
+}
+
+/// The messages logged for `env` after the first `n`.
+pub fn log_since(env: usize, n: usize) -> Vec<LogLine> {
+    log()
+        .get(&env)
+        .map_or_else(Vec::new, |l| l.get(n..).unwrap_or_default().to_vec())
+}
+
+/// Drops the messages of `env` (a long-running caller, the fuzz harness, keeps memory flat).
+pub fn forget_log(env: usize) {
+    log().remove(&env);
 }
 
 /// Callback struct whose logger records into `LOG` under `env`.
@@ -98,6 +122,16 @@ pub fn callbacks(env: usize) -> fmi2CallbackFunctions {
 /// The GUID of a variant.
 pub fn guid(v: Variant) -> String {
     table(v).guid.clone()
+}
+
+/// Value reference of a variable of `v` (panics when the variant has none of that name).
+pub fn vr(v: Variant, name: &str) -> u32 {
+    table(v)
+        .vars
+        .iter()
+        .find(|x| x.name == name)
+        .unwrap_or_else(|| panic!("{v:?} has no variable {name}"))
+        .vr
 }
 
 /// Calls fmi2Instantiate with optional (NULL) strings; returns the component.
@@ -133,6 +167,7 @@ pub struct Fmu {
 impl Drop for Fmu {
     fn drop(&mut self) {
         fmi2FreeInstance(self.c);
+        forget_log(self.env);
     }
 }
 
@@ -168,7 +203,7 @@ impl Fmu {
 
     /// Number of messages logged so far.
     pub fn log_len(&self) -> usize {
-        self.log().len()
+        log_len(self.env)
     }
 
     /// Whether the variant has a variable of this name.
@@ -178,12 +213,7 @@ impl Fmu {
 
     /// Value reference of a variable (panics when the variant has none of that name).
     pub fn vr(&self, name: &str) -> u32 {
-        table(self.variant)
-            .vars
-            .iter()
-            .find(|v| v.name == name)
-            .unwrap_or_else(|| panic!("{:?} has no variable {name}", self.variant))
-            .vr
+        vr(self.variant, name)
     }
 
     /// Value references of the Real (resp. Integer) outputs.
@@ -274,6 +304,14 @@ impl Fmu {
     pub fn step(&self, t: f64, h: f64) -> fmi2Status {
         fmi2DoStep(self.c, t, h, fmi2False)
     }
+}
+
+/// FNV-1a 64 of `bytes`, the checksum the serialized FMU state ends with: lets a test or the fuzz
+/// harness patch serialized bytes and still pass the checksum, to reach the validation behind it.
+pub fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| {
+        (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
+    })
 }
 
 /// Asserts that `status` is fmi2Error and that exactly one new message, an fmi2Error naming

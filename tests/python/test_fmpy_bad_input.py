@@ -10,11 +10,12 @@ FMU2Slave API. One test (family) per row:
                                          after initialization), message names both
   fixed parameter after initialization   fmi2Error, message
   unknown value reference, wrong type    fmi2Error, message
-  wrong GUID (+ ModelExchange, empty     fmi2Instantiate returns NULL after logging why
-  instance name)
   flexion alpha -> pi                    fmi2DoStep returns fmi2Error (or fmi2Discard), message
                                          about the singular configuration; fmi2Reset or
                                          fmi2SetFMUstate recovers
+
+fmi2Instantiate's refusals (wrong GUID, fmuType ModelExchange, empty or NULL instance name) are
+tested through the C ABI in tests/abi_lifecycle.rs (instantiate_refuses_bad_arguments_after_logging).
 
 "Nothing is lost" is checked every time: after the refusal the instance reports exactly the
 values it had (bitwise), and going on with good input gives, bit for bit, the run of an
@@ -23,7 +24,6 @@ instance that never saw the bad input.
 
 from __future__ import annotations
 
-import ctypes
 import math
 
 import numpy as np
@@ -31,10 +31,9 @@ import pytest
 from fmpy.fmi1 import FMICallException
 
 import _ref
-from conftest import VARIANTS, model_description, vr
+from conftest import VARIANTS, Connector, vr
 
 fmi2Discard, fmi2Error = 2, 3
-fmi2ModelExchange = 0
 fmi2LastSuccessfulTime = 2
 NAN, INF = float("nan"), float("inf")
 H = 0.01
@@ -45,36 +44,13 @@ H = 0.01
 # ==========================================================================
 
 
-class Conn:
+class Conn(Connector):
+    """conftest's Connector (scripts/cosim/driver.py) with the record this file compares (every
+    output, parameter and input), driven along `motion_inputs`, and the instance's log."""
+
     def __init__(self, variant, slave, log):
-        self.variant = variant
-        self.s = slave
+        super().__init__(variant, slave)
         self.log = log
-        self.v = vr(variant)
-        byc = lambda c, t: [r for r in self.v.values() if r.causality == c and r.type == t]  # noqa: E731
-        self.real_out = byc("output", "Real")
-        self.int_out = byc("output", "Integer")
-        self.real_in = byc("input", "Real")
-        self.params = [r for r in self.v.values() if r.causality == "parameter"]
-        self.t = 0.0
-
-    def set(self, values):
-        for name, val in values.items():
-            r = self.v[name]
-            if r.type == "Real":
-                self.s.setReal([r], [float(val)])
-            elif r.type == "Integer":
-                self.s.setInteger([r], [int(val)])
-            else:
-                self.s.setBoolean([r], [bool(val)])
-
-    def value(self, name):
-        r = self.v[name]
-        return {"Real": self.s.getReal, "Integer": self.s.getInteger, "Boolean": self.s.getBoolean}[r.type]([r])[0]
-
-    def values(self):
-        """Every parameter and input (no outputs: they need evaluable inputs)."""
-        return tuple((r.name, self.value(r.name)) for r in self.params + self.real_in)
 
     def record(self):
         return (
@@ -83,29 +59,11 @@ class Conn:
             self.values(),
         )
 
-    def enter(self, params, inputs, t0=0.0):
-        self.s.setupExperiment(startTime=t0)
-        self.s.enterInitializationMode()
-        self.set(params)
-        self.set(inputs)
-        self.t = t0
-
-    def start(self, params, inputs, t0=0.0):
-        self.enter(params, inputs, t0)
-        self.s.exitInitializationMode()
-        return self
+    def drive(self, n, h=H):
+        return super().drive(lambda t: motion_inputs(self.variant, t), n, h)
 
     def step(self, h=H):
-        self.s.doStep(currentCommunicationPoint=self.t, communicationStepSize=h)
-        self.t = self.t + h
-
-    def drive(self, n, h=H):
-        out = []
-        for _ in range(n):
-            self.set(motion_inputs(self.variant, self.t))
-            self.step(h)
-            out.append(self.record())
-        return out
+        super().step(h)
 
     def errors_since(self, n):
         return [m for (status, _cat, m) in self.log[n:] if status >= fmi2Discard]
@@ -487,52 +445,6 @@ def test_wrong_type(conn, variant):
         refused(c, fn, *args, names=[r.name])
     assert c.record() == before
     assert c.drive(10) == clean_run(conn, variant, 3, 10)
-
-
-# ==========================================================================
-# instantiation: wrong GUID, ModelExchange, empty instance name
-# ==========================================================================
-
-
-@pytest.mark.parametrize("variant", VARIANTS)
-def test_wrong_guid_refused(make_slave, variant):
-    log = []
-    with pytest.raises(Exception, match="[Ff]ailed to instantiate"):
-        make_slave(variant, log=log, guid="{00000000-0000-0000-0000-000000000000}")
-    assert log, "fmi2Instantiate returned NULL without a log message"
-    assert any("GUID" in m or "guid" in m.lower() for (_s, _c, m) in log), log
-    # the library is still usable: a correct instance works
-    s = make_slave(variant)
-    s.setupExperiment(startTime=0.0)
-    s.enterInitializationMode()
-    s.exitInitializationMode()
-    s.doStep(0.0, H)
-
-
-@pytest.mark.parametrize("variant", VARIANTS)
-def test_model_exchange_and_empty_name_refused(make_slave, variant):
-    md = model_description(variant)
-    log = []
-    slave = make_slave(variant, log=log)  # a good instance: its library and callbacks
-    resource = b"file:///nonexistent"
-    n = len(log)
-    comp = slave.fmi2Instantiate(b"me", fmi2ModelExchange, md.guid.encode(), resource,
-                                 ctypes.byref(slave.callbacks), False, False)
-    if comp is not None:
-        slave.fmi2FreeInstance(comp)
-    assert comp is None, "fmi2Instantiate accepted fmuType ModelExchange"
-    assert len(log) > n and any("ModelExchange" in m or "fmuType" in m for (_s, _c, m) in log[n:]), log[n:]
-    n = len(log)
-    comp = slave.fmi2Instantiate(b"", 1, md.guid.encode(), resource, ctypes.byref(slave.callbacks), False, False)
-    if comp is not None:
-        slave.fmi2FreeInstance(comp)
-    assert comp is None, "fmi2Instantiate accepted an empty instance name"
-    assert len(log) > n and any("name" in m.lower() for (_s, _c, m) in log[n:]), log[n:]
-    # the good instance is unaffected
-    slave.setupExperiment(startTime=0.0)
-    slave.enterInitializationMode()
-    slave.exitInitializationMode()
-    slave.doStep(0.0, H)
 
 
 # ==========================================================================

@@ -26,7 +26,7 @@ import pytest
 from fmpy.fmi1 import FMICallException
 
 import _ref
-from conftest import VARIANTS, model_description, vr
+from conftest import VARIANTS, Connector, model_description, parameter_sets, vr
 
 fmi2LastSuccessfulTime = 2  # fmi2StatusKind
 fmi2Terminated = 3
@@ -34,80 +34,8 @@ EPS = np.finfo(float).eps
 
 
 # ==========================================================================
-# driver
+# driver: conftest's Connector (scripts/cosim/driver.py), one per instance from make_slave
 # ==========================================================================
-
-
-class Conn:
-    """One instance (from conftest's make_slave) with name-based access and a master clock."""
-
-    def __init__(self, variant, slave):
-        self.variant = variant
-        self.s = slave
-        self.v = vr(variant)
-        byc = lambda c, t: [r for r in self.v.values() if r.causality == c and r.type == t]  # noqa: E731
-        self.real_out = byc("output", "Real")
-        self.int_out = byc("output", "Integer")
-        self.real_in = byc("input", "Real")
-        self.t = 0.0
-
-    # --- values ---------------------------------------------------------------------------
-    def set(self, values):
-        groups = {}
-        for name, val in values.items():
-            r = self.v[name]
-            groups.setdefault(r.type, ([], []))
-            groups[r.type][0].append(r)
-            groups[r.type][1].append(val)
-        for typ, (vrs, vals) in groups.items():
-            if typ == "Real":
-                self.s.setReal(vrs, [float(x) for x in vals])
-            elif typ == "Integer":
-                self.s.setInteger(vrs, [int(x) for x in vals])
-            elif typ == "Boolean":
-                self.s.setBoolean(vrs, [bool(x) for x in vals])
-            else:
-                raise TypeError(typ)
-
-    def get(self, names):
-        return np.array(self.s.getReal([self.v[n] for n in names]))
-
-    def geti(self, name):
-        return self.s.getInteger([self.v[name]])[0]
-
-    def record(self):
-        """Everything observable: Real and Integer outputs, the inputs read back, the time."""
-        return (
-            tuple(self.s.getReal(self.real_out)),
-            tuple(self.s.getInteger(self.int_out)),
-            tuple(self.s.getReal(self.real_in)),
-            self.s.getRealStatus(fmi2LastSuccessfulTime),
-        )
-
-    # --- lifecycle ------------------------------------------------------------------------
-    def start(self, params, inputs, t0=0.0):
-        self.s.setupExperiment(startTime=t0)
-        self.s.enterInitializationMode()
-        self.set(params)
-        self.set(inputs)
-        self.s.exitInitializationMode()
-        self.t = t0
-        return self
-
-    def step(self, h):
-        self.s.doStep(currentCommunicationPoint=self.t, communicationStepSize=h)
-        self.t = self.t + h
-
-    def drive(self, inputs_at, n, h, record=True):
-        """n communication steps of size h; before each step the master sets the inputs at the
-        current communication point. Returns the record after each step."""
-        out = []
-        for _ in range(n):
-            self.set(inputs_at(self.t))
-            self.step(h)
-            if record:
-                out.append(self.record())
-        return out
 
 
 @pytest.fixture
@@ -116,7 +44,7 @@ def conn(make_slave):
 
     def make(variant, log=None):
         count[0] += 1
-        return Conn(variant, make_slave(variant, instance_name=f"{variant}-{count[0]}", log=log))
+        return Connector(variant, make_slave(variant, instance_name=f"{variant}-{count[0]}", log=log))
 
     return make
 
@@ -237,9 +165,11 @@ class Smooth:
 
 
 def spring_damper_params(variant, damping=True):
-    """Deterministic springs (trans 800-1500 N/m, rot 40-60 N.m/rad) and dampers."""
-    kt, kr = [1000.0, 1500.0, 800.0], [50.0, 40.0, 60.0]
-    ct, cr = [10.0, 12.0, 8.0], [0.5, 0.4, 0.6]
+    """Deterministic springs (trans 800-1500 N/m, rot 40-60 N.m/rad) and dampers (`spring_damper`
+    of tests/data/parameter_sets.json, shared with benches/native.rs)."""
+    sd = parameter_sets()["spring_damper"]
+    kt, kr = sd["k_translational"], sd["k_rotational"]
+    ct, cr = sd["c_translational"], sd["c_rotational"]
     p = {}
     for _name, k in _ref.components_of(variant):
         p[f"elasticity.k{k}"] = kt[k - 1] if k <= 3 else kr[k - 4]
@@ -252,11 +182,13 @@ class PlanarSlide:
     (the sliding direction turns along the arc; both velocity components vanish at its ends, so
     the friction sticks there) and spins about e1a:
         b = a + Ra (X0, Y0 + A s, Z0 + B s^2), s = sin wt,   q_b = q_a * exp(psi(t) e1),
-        psi = PSI0 + PS sin(1.5 wt).  Exact velocities."""
+        psi = PSI0 + PS sin(1.5 wt).  Exact velocities. The constants are `planar_slide` of
+    tests/data/parameter_sets.json (the native benchmark drives the same path)."""
 
-    X0, Y0, Z0 = 0.1, 0.2, -0.1
-    A, B, OM = 0.02, 0.008, 2.0 * math.pi
-    PSI0, PS = 0.3, 0.05
+    _p = parameter_sets()["planar_slide"]
+    X0, Y0, Z0 = _p["X0"], _p["Y0"], _p["Z0"]
+    A, B, OM = _p["A"], _p["B"], 2.0 * math.pi
+    PSI0, PS = _p["PSI0"], _p["PS"]
 
     def pose(self, t):
         om = self.OM
@@ -275,16 +207,13 @@ class PlanarSlide:
         return _ref.pose_to_inputs("Planar", self.pose(t))
 
 
-# Friction: F_NC = |f1| + Fint = 100 N (f1 ~ 0 on this path), limit mu F_NC = 40 N (30 N
-# kinetic), stick range 40 N / 1e4 N/m = 4 mm << amplitude 20 mm: every reversal sticks for
-# ~0.15 s, the rest slips. Spin: M_NR1 ~ Mint = 2 N.m, range 0.8 N.m / 100 N.m/rad = 8 mrad <<
-# 50 mrad. Stop on u2 at 60 % of the amplitude, hit twice per period.
+# `planar_friction` of tests/data/parameter_sets.json (shared with benches/native.rs): friction
+# F_NC = |f1| + Fint = 100 N (f1 ~ 0 on this path), limit mu F_NC = 40 N (30 N kinetic), stick
+# range 40 N / 1e4 N/m = 4 mm << amplitude 20 mm: every reversal sticks for ~0.15 s, the rest
+# slips. Spin: M_NR1 ~ Mint = 2 N.m, range 0.8 N.m / 100 N.m/rad = 8 mrad << 50 mrad. Here also a
+# stop on u2 at 60 % of the amplitude, hit twice per period.
 PLANAR_FRICTION = {
-    "elasticity.k2": 200.0, "elasticity.k3": 200.0, "elasticity.k4": 5.0,
-    "damping.c2": 2.0, "damping.c3": 2.0, "damping.c4": 0.05,
-    "friction.muStatic": 0.4, "friction.muKinetic": 0.3, "friction.decay": 2.0,
-    "friction.R": 0.05, "friction.Fint": 100.0, "friction.Mint": 2.0,
-    "friction.stickStiffness": 1.0e4, "friction.stickStiffnessR1": 100.0,
+    **dict(parameter_sets()["planar_friction"]["values"]),
     "stop.upper2": PlanarSlide.Y0 + 0.6 * PlanarSlide.A, "stop.stiffness": 1.0e5, "stop.damping": 10.0,
 }
 
@@ -341,9 +270,9 @@ def _survey_planar(conn):
     for _ in range(400):
         c.set(inputs_at(c.t))
         c.step(H_ROLL)
-        status.append(c.geti("friction.status"))
-        status_r1.append(c.geti("friction.statusR1"))
-        stop.append(c.geti("CSLST2"))
+        status.append(c.value("friction.status"))
+        status_r1.append(c.value("friction.statusR1"))
+        stop.append(c.value("CSLST2"))
     return status, status_r1, stop
 
 
@@ -707,7 +636,7 @@ def test_directional_derivatives_planar_friction_and_stop(conn, case, friction):
     v = (0.0, 0.05, 0.0125)
     c.set(_ref.pose_to_inputs(P, _planar_pose(1e-4, 0.020, 0.005, 0.08, v, 0.2)))
     c.step(0.01)
-    assert c.geti("friction.status") == 2 and c.geti("friction.statusR1") == 2
+    assert c.value("friction.status") == 2 and c.value("friction.statusR1") == 2
     if case == "slip":
         pose = _planar_pose(1e-4, 0.021, 0.00525, 0.082, v, 0.2)
         want = (2, 2)
@@ -721,9 +650,9 @@ def test_directional_derivatives_planar_friction_and_stop(conn, case, friction):
         want = None
     c.set(_ref.pose_to_inputs(P, pose))
     if want is not None:
-        assert (c.geti("friction.status"), c.geti("friction.statusR1")) == want
+        assert (c.value("friction.status"), c.value("friction.statusR1")) == want
     else:
-        assert c.geti("CSLST2") == 1
+        assert c.value("CSLST2") == 1
         assert c.get(["CRF2"])[0] < -100.0 or c.get(["CRF2"])[0] > 100.0
     knowns = [r.name for r in c.real_in]
     J_fd, _ = _assert_jacobians(c, knowns, _unknowns(P), f"Planar {case}")

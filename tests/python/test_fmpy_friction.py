@@ -30,10 +30,10 @@ import pytest
 from fmpy.fmi1 import FMICallException
 
 import _ref
-from conftest import Conn
+from conftest import Connector
 
 # --------------------------------------------------------------------------
-# driver inputs (Conn, the name-based driver, is in conftest)
+# driver inputs (Connector, the name-based driver, is scripts/cosim/driver.py)
 # --------------------------------------------------------------------------
 
 
@@ -54,7 +54,7 @@ def b_inputs(y=0.0, z=0.0, alpha=0.0, vy=0.0, vz=0.0, w1=0.0, x=0.0, tilt=(0.0, 
 
 
 def start(make_slave, params, name="planar", **b0):
-    con = Conn(make_slave("Planar", instance_name=name))
+    con = Connector("Planar", make_slave("Planar", instance_name=name))
     return con.start(params, {**A_INPUTS, **b_inputs(**b0)})
 
 
@@ -395,7 +395,7 @@ def test_feedthrough_does_not_commit_friction(make_slave):
     con = start(make_slave, {"friction.muStatic": MU, "friction.muKinetic": MU, "friction.Fint": N,
                              "friction.stickStiffness": KS, "cosim.extrapolation": 0}, y=y0, z=z0)
     init = con.get(["CU2", "CU3", "CSF2", "CSF3", "CSFC"])
-    assert np.all(init == 0.0) and con.one("friction.status") == 1
+    assert np.all(init == 0.0) and con.value("friction.status") == 1
     # stick: elastic force of a 2e-4 m offset, committed by a step (hold extrapolation)
     con.set(b_inputs(y0 + 2e-4, z0))
     con.step(h)
@@ -403,12 +403,12 @@ def test_feedthrough_does_not_commit_friction(make_slave):
     assert committed[0] == pytest.approx(KS * 2e-4, abs=1e-9) and committed[2] == 0.0
     # a big trial, read without stepping
     con.set(b_inputs(y0 + 5e-3, z0))
-    assert con.one("friction.status") == 2
-    assert con.one("CSFC") == pytest.approx(MU * N, rel=1e-12)
+    assert con.value("friction.status") == 2
+    assert con.value("CSFC") == pytest.approx(MU * N, rel=1e-12)
     # back: the committed state is untouched
     con.set(b_inputs(y0 + 2e-4, z0))
     assert np.array_equal(con.get(["CSF2", "CSF3", "friction.slip"]), committed)
-    assert con.one("friction.status") == 1
+    assert con.value("friction.status") == 1
 
 
 def test_stick_damper_in_parallel_with_the_stick_spring(make_slave):
@@ -528,7 +528,7 @@ def test_bad_friction_parameters_are_refused(make_slave, bad, names):
     whose message names the parameter(s)."""
     log = []
     s = make_slave("Planar", log=log)
-    con = Conn(s)
+    con = Connector("Planar", s)
     s.setupExperiment(startTime=0.0)
     s.enterInitializationMode()
     refused = False
@@ -538,7 +538,7 @@ def test_bad_friction_parameters_are_refused(make_slave, bad, names):
         refused = True
     if refused:
         # refused at the setter: the bad value was not stored
-        assert con.one(names[0]) != bad[names[0]]
+        assert con.value(names[0]) != bad[names[0]]
     else:
         with pytest.raises(FMICallException):
             s.exitInitializationMode()
@@ -550,7 +550,7 @@ def test_bad_friction_parameters_are_refused(make_slave, bad, names):
 def test_good_friction_parameters_are_accepted(make_slave):
     """The boundary cases of the refusals are legal: mu_k = mu_s, mu = 0, R = 0."""
     log = []
-    con = Conn(make_slave("Planar", log=log))
+    con = Connector("Planar", make_slave("Planar", log=log))
     con.start({"friction.muStatic": 0.3, "friction.muKinetic": 0.3, "friction.R": 0.0}, A_INPUTS)
     con.step(1e-3)
     assert not [m for (status, _, m) in log if status >= 2]
@@ -609,7 +609,7 @@ def test_energy_balance_long_friction_cycle(make_slave, extra):
         pre = con.get(names)
         con.step(h)
         post = con.get(names)
-        status_seen.add(int(con.one("friction.status")))
+        status_seen.add(int(con.value("friction.status")))
         # node b's velocity: (0, vy, vz); angular velocity (w1, 0, 0)
         vel = np.array([0.0, rate[k, 0], rate[k, 1], rate[k, 2], 0.0, 0.0])
         W -= 0.5 * float((pre + post) @ vel) * h

@@ -29,7 +29,7 @@ import numpy as np
 import pytest
 
 import _ref
-from conftest import model_description
+from conftest import Connector
 
 TOL_KIN = 5e-12
 TOL_RATE = 1e-10
@@ -176,64 +176,16 @@ def test_ref_connector_energy_is_potential():
 
 
 # ==========================================================================
-# FMU driver (fmpy low level)
+# FMU driver: conftest's Connector (scripts/cosim/driver.py)
 # ==========================================================================
 
 
-class Connector:
-    """One FMU instance (from conftest's make_slave) with name-based access."""
+def set_pose(c, pose):
+    c.set(_ref.pose_to_inputs(c.variant, pose))
 
-    def __init__(self, variant, slave):
-        self.variant = variant
-        self.vars = {v.name: v for v in model_description(variant).modelVariables}
-        self.slave = slave
-        self.t = 0.0
 
-    def start(self, pose, params=None, t0=0.0):
-        s = self.slave
-        s.setupExperiment(startTime=t0)
-        s.enterInitializationMode()
-        self.set(params or {})
-        self.set_pose(pose)
-        s.exitInitializationMode()
-        self.t = t0
-        return self
-
-    def set(self, values):
-        by_type = {}
-        for name, val in values.items():
-            var = self.vars[name]  # KeyError: the variable is missing
-            by_type.setdefault(var.type, ([], []))
-            by_type[var.type][0].append(var.valueReference)
-            by_type[var.type][1].append(val)
-        for typ, (vrs, vals) in by_type.items():
-            if typ == "Real":
-                self.slave.setReal(vrs, [float(x) for x in vals])
-            elif typ == "Integer":
-                self.slave.setInteger(vrs, [int(x) for x in vals])
-            elif typ == "Boolean":
-                self.slave.setBoolean(vrs, [bool(x) for x in vals])
-            else:
-                raise TypeError(typ)
-
-    def set_pose(self, pose):
-        self.set(_ref.pose_to_inputs(self.variant, pose))
-
-    def get(self, names):
-        vals = self.slave.getReal([self.vars[n].valueReference for n in names])
-        return dict(zip(names, vals))
-
-    def vec(self, prefix):
-        """a.f -> np.array([a.f[1], a.f[2], a.f[3]])"""
-        d = self.get([f"{prefix}[{j}]" for j in (1, 2, 3)])
-        return np.array([d[f"{prefix}[{j}]"] for j in (1, 2, 3)])
-
-    def loads(self):
-        return {n: self.vec(n) for n in _ref.VARIANTS[self.variant]["loads"]}
-
-    def step(self, h):
-        self.slave.doStep(currentCommunicationPoint=self.t, communicationStepSize=h)
-        self.t += h
+def node_loads(c):
+    return {n: c.vec(n) for n in _ref.VARIANTS[c.variant]["loads"]}
 
 
 @pytest.fixture
@@ -247,7 +199,7 @@ def connect(make_slave):
         count[0] += 1
         c = Connector(variant, make_slave(variant, instance_name=f"{variant}-{count[0]}"))
         if pose is not None:
-            c.start(pose, params)
+            c.start(params or {}, _ref.pose_to_inputs(variant, pose))
         return c
 
     return make
@@ -331,17 +283,17 @@ def test_positions_and_motions_random_poses(connect, variant):
     P0 = _ref.positions(variant, init)
     prev = {k: P0[k] for k in ("CPR1", "CPR3") if k in P0}
     # right after initialization: CP = initial position, CU = 0
-    got = c.get(names + [_ref.force_names(n)["CU"] for n in names])
+    got = c.named(names + [_ref.force_names(n)["CU"] for n in names])
     for n in names:
         assert abs(got[n] - P0[n]) <= TOL_KIN, (n, got[n], P0[n])
         assert abs(got[_ref.force_names(n)["CU"]]) <= TOL_KIN
     for i in range(50):
         pose = _ref.random_pose(rng, variant)
-        c.set_pose(pose)
+        set_pose(c, pose)
         P = _ref.positions(variant, pose, prev)
         V = _ref.velocities(variant, pose, prev)
         outs = names + [_ref.force_names(n)[key] for n in names for key in ("CU", "CV")]
-        got = c.get(outs)
+        got = c.named(outs)
         for n in names:
             fn = _ref.force_names(n)
             assert abs(got[n] - P[n]) <= TOL_KIN, (i, n, got[n], P[n])
@@ -361,8 +313,8 @@ def test_flexion_components_make_total_flexion(connect, variant):
     c = connect(variant, IDENTITY_POSE)
     for _ in range(50):
         pose = _ref.random_pose(rng, variant)
-        c.set_pose(pose)
-        got = c.get(["CPR1", "CPR2"])
+        set_pose(c, pose)
+        got = c.named(["CPR1", "CPR2"])
         Ra, Rb = _ref.quat_to_matrix(pose["a.q"]), _ref.quat_to_matrix(pose["b.q"])
         # alpha = acos(e3a . e3b) (seed page 636), evaluated as
         # atan2(|e3a x e3b|, e3a . e3b): the same angle, without acos's
@@ -386,9 +338,9 @@ def test_swap_symmetry(connect, variant):
     names = _positions_names(variant)
     for _ in range(30):
         pose = _ref.random_pose(rng, variant, with_velocity=False)
-        c1.set_pose(pose)
-        c2.set_pose(_swap(pose))
-        g1, g2 = c1.get(names), c2.get(names)
+        set_pose(c1, pose)
+        set_pose(c2, _swap(pose))
+        g1, g2 = c1.named(names), c2.named(names)
         for n in names:
             # same triad, d -> -d: x, y, z -> -x, -y, -z; (a1, a2, beta) -> -(...)
             assert abs(g1[n] + g2[n]) <= TOL_KIN, (n, g1[n], g2[n])
@@ -410,8 +362,8 @@ def test_rigid_motion_is_invisible(connect, variant):
     params = _spring_params(variant, rng, damping=True)
     c = connect(variant, init, params)
     names = _positions_names(variant)
-    P0 = c.get(names)
-    L0 = c.loads()
+    P0 = c.named(names)
+    L0 = node_loads(c)
     if variant != "Planar":
         for n, v in L0.items():
             assert np.linalg.norm(v) == 0.0 or np.linalg.norm(v) < 1e-9, (n, v)
@@ -420,8 +372,8 @@ def test_rigid_motion_is_invisible(connect, variant):
         t = rng.uniform(-2, 2, size=3)
         omega, v0 = rng.uniform(-1, 1, size=3), rng.uniform(-1, 1, size=3)
         pose = _ref.rigid_motion(init, Q, t, omega, v0)
-        c.set_pose(pose)
-        got = c.get(names + [_ref.force_names(n)[k] for n in names for k in ("CU", "CV")])
+        set_pose(c, pose)
+        got = c.named(names + [_ref.force_names(n)[k] for n in names for k in ("CU", "CV")])
         for n in names:
             fn = _ref.force_names(n)
             assert abs(got[n] - P0[n]) <= TOL_KIN
@@ -430,7 +382,7 @@ def test_rigid_motion_is_invisible(connect, variant):
             # round-off is ~1e-15; 1e-9 also admits an FMU that differentiates
             # numerically, and still catches a non-objective rate (O(1))
             assert abs(got[fn["CV"]]) <= 1e-9
-        L = c.loads()
+        L = node_loads(c)
         # Exact answer: Q L0 (0 but for Planar).  Round-off: stiffness (<= 1e5)
         # times ~1e-15 position errors, or ~1e-15 of the Planar penalty loads;
         # 1e-9 of max(1 N, |L0|) is far above both.
@@ -474,9 +426,9 @@ def test_torsion_sweep_4pi_is_continuous(connect, variant, sign):
     for i in range(1, n_steps + 1):
         th = sign * 4 * math.pi * i / n_steps
         pose = pose_at(th)
-        c.set_pose(pose)
+        set_pose(c, pose)
         c.step(1e-3)
-        got = c.get(names)
+        got = c.named(names)
         # the applied angle itself (not only the reference) -- scale 4 pi
         assert abs(got[key] - th) <= TOL_KIN * 4 * math.pi, (i, got[key], th)
         ref = _ref.positions(variant, pose, prev)
@@ -484,7 +436,7 @@ def test_torsion_sweep_4pi_is_continuous(connect, variant, sign):
             assert abs(got[n] - ref[n]) <= TOL_KIN * 4 * math.pi, (i, n, got[n], ref[n])
         prev = {key: ref[key]}
         # CU of the torsion = applied angle (initial torsion 0)
-        cu = c.get([_ref.force_names(key)["CU"]])[_ref.force_names(key)["CU"]]
+        cu = c.named([_ref.force_names(key)["CU"]])[_ref.force_names(key)["CU"]]
         assert abs(cu - th) <= TOL_KIN * 4 * math.pi
 
 
@@ -495,11 +447,11 @@ def test_torsion_principal_value_after_a_jump(connect, variant):
     c = connect(variant, IDENTITY_POSE)
     for th in (2.5, -2.5, 1.7):
         pose = dict(IDENTITY_POSE, **{"b.q": _ref.matrix_to_quat(_ref.rot_z(th))})
-        c.set_pose(pose)
-        got = c.get(["CPR1", "CPR2", "CPR3"])
+        set_pose(c, pose)
+        got = c.named(["CPR1", "CPR2", "CPR3"])
         assert abs(got["CPR3"] - th) <= TOL_KIN, (th, got)
         assert abs(got["CPR1"]) <= TOL_KIN and abs(got["CPR2"]) <= TOL_KIN
-        c.set_pose(IDENTITY_POSE)
+        set_pose(c, IDENTITY_POSE)
         c.step(1e-3)
 
 
@@ -518,8 +470,8 @@ def test_node_load_equilibrium(connect, variant):
     c = connect(variant, init, _spring_params(variant, rng, damping=True))
     for _ in range(50):
         pose = _ref.random_pose(rng, variant)
-        c.set_pose(pose)
-        L = c.loads()
+        set_pose(c, pose)
+        L = node_loads(c)
         assert _load_scale(L) > 1.0  # the springs are loaded
         _assert_equilibrium(variant, pose, L, 1e-12)
 
@@ -551,9 +503,9 @@ def test_constitutive_outputs_match_reference(connect, variant, given):
     out_names = list(dict.fromkeys(out_names))
     for i in range(20):
         pose = _ref.random_pose(rng, variant)
-        c.set_pose(pose)
+        set_pose(c, pose)
         ref = _ref.connector(variant, pose, init, params)
-        got = c.get(out_names)
+        got = c.named(out_names)
         # internal consistency of the FMU: CTF = CEF + CVF + CRF
         for n in names:
             fn = _ref.force_names(n)
@@ -581,7 +533,7 @@ def test_constitutive_outputs_match_reference(connect, variant, given):
             got["energy.stored"],
             ref["energy.stored"],
         )
-        L = c.loads()
+        L = node_loads(c)
         scale = _load_scale(ref)
         for n, v in L.items():
             assert np.linalg.norm(v - ref[n]) <= TOL_LOAD_REL * scale, (i, n, v, ref[n])
@@ -601,7 +553,7 @@ def test_stretched_spring_sign(connect, variant):
         pose = {"a.q": ident, "b.q": _ref.matrix_to_quat(_ref.rot_z(th))}
         params = {"elasticity.k6": k, "reference.given6": True, "reference.value6": 0.0}
         c = connect(variant, pose, params)
-        got = c.get(["CPR3", "CEM3", "CTM3"])
+        got = c.named(["CPR3", "CEM3", "CTM3"])
         assert abs(got["CPR3"] - th) <= TOL_KIN and abs(got["CEM3"] - k * th) <= k * TOL_KIN
         # pure torsion: the moment resists the twist, m_b = -k th e3, m_a = +k th e3
         assert np.allclose(c.vec("b.m"), [0, 0, -k * th], atol=1e-9 * k)
@@ -623,7 +575,7 @@ def test_stretched_spring_sign(connect, variant):
     if variant == "Planar":
         params.update({"constraint.stiffness": 1e5, "constraint.rotStiffness": 1e4})
     c = connect(variant, pose, params)
-    got = c.get([f"CEF{kk}" for kk in comps])
+    got = c.named([f"CEF{kk}" for kk in comps])
     for kk, val in comps.items():
         assert abs(got[f"CEF{kk}"] - k * val) <= k * TOL_KIN, (kk, got)
     # force: Planar f = f2 e2 + f3 e3; RadialThrust f = f1 e_r + f3 e3a;
@@ -648,7 +600,7 @@ def test_damping_energy_constant_velocity(connect, variant):
     for i in range(1, n + 1):
         c.step(h)
         t = i * h
-        got = c.get(["b.r[3]", "CV3", "CU3", "CEF3", "CVF3", "energy.damping", "energy.stored"])
+        got = c.named(["b.r[3]", "CV3", "CU3", "CEF3", "CVF3", "energy.damping", "energy.stored"])
         assert abs(got["b.r[3]"] - (1.0 + v * t)) <= 1e-12 * (1 + i)
         assert abs(got["CV3"] - v) <= 1e-12
         assert abs(got["CU3"] - v * t) <= 1e-12 * (1 + i)
@@ -691,12 +643,12 @@ def test_step_extrapolates_inputs(connect, variant):
             if "r" in spec[node]:
                 assert np.allclose(c.vec(f"{node}.r"), pose[f"{node}.r"], rtol=0, atol=1e-10)
             if "q" in spec[node]:
-                got = c.get([f"{node}.q.{x}" for x in "wxyz"])
+                got = c.named([f"{node}.q.{x}" for x in "wxyz"])
                 qg = np.array([got[f"{node}.q.{x}"] for x in "wxyz"])
                 # compare rotations (q and -q are the same rotation)
                 assert np.allclose(_ref.quat_to_matrix(qg), _ref.quat_to_matrix(pose[f"{node}.q"]), rtol=0, atol=1e-10)
         ref = _ref.positions(variant, pose, prev)
-        got = c.get(names)
+        got = c.named(names)
         for n in names:
             assert abs(got[n] - ref[n]) <= 1e-10, (n, got[n], ref[n])
         prev = {k: ref[k] for k in ("CPR1", "CPR3") if k in ref}
@@ -708,10 +660,10 @@ def test_step_hold_keeps_inputs(connect, variant):
     init = _ref.random_pose(rng, variant, with_velocity=True)
     c = connect(variant, init, {"cosim.extrapolation": 0})
     names = _positions_names(variant)
-    before = c.get(names + ["a.r[1]", "b.r[2]"])
+    before = c.named(names + ["a.r[1]", "b.r[2]"])
     for _ in range(3):
         c.step(0.05)
-    after = c.get(names + ["a.r[1]", "b.r[2]"])
+    after = c.named(names + ["a.r[1]", "b.r[2]"])
     for n in before:
         assert after[n] == pytest.approx(before[n], abs=1e-14), n
 
@@ -722,11 +674,11 @@ def test_zero_velocity_step_leaves_outputs(connect, variant):
     init = _ref.random_pose(rng, variant, with_velocity=False)
     c = connect(variant, init, _spring_params(variant, rng, damping=True))
     pose = _ref.random_pose(rng, variant, with_velocity=False)
-    c.set_pose(pose)
+    set_pose(c, pose)
     names = _positions_names(variant) + ["energy.stored"]
-    before, L0 = c.get(names), c.loads()
+    before, L0 = c.named(names), node_loads(c)
     c.step(0.1)
-    after, L1 = c.get(names), c.loads()
+    after, L1 = c.named(names), node_loads(c)
     for n in names:
         assert after[n] == pytest.approx(before[n], rel=1e-13, abs=1e-13), n
     for n in L0:
@@ -759,8 +711,8 @@ def test_loads_are_energy_gradient(connect, variant):
     spec = _ref.VARIANTS[variant]
     for _ in range(5):
         pose = _ref.random_pose(rng, variant, with_velocity=False)
-        c.set_pose(pose)
-        L = c.loads()
+        set_pose(c, pose)
+        L = node_loads(c)
         scale = _load_scale(L)
         assert scale > 1.0
         for node, kind, j in _ref.MOTIONS:
@@ -769,9 +721,9 @@ def test_loads_are_energy_gradient(connect, variant):
                 continue  # no such input (e.g. RadialThrust b.q)
             dE = 0.0
             for s, w in stencil.items():
-                c.set_pose(_ref.perturb(pose, node, kind, j, s * h))
-                dE += w * c.get(["energy.stored"])["energy.stored"]
-            c.set_pose(pose)
+                set_pose(c, _ref.perturb(pose, node, kind, j, s * h))
+                dE += w * c.named(["energy.stored"])["energy.stored"]
+            set_pose(c, pose)
             fd = -dE / h
             have = L[load_name][j] if load_name in L else 0.0
             assert abs(fd - have) <= 1e-10 * scale, (load_name, j, fd, have)

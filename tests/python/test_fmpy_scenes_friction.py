@@ -24,7 +24,7 @@ import math
 
 import numpy as np
 
-from conftest import vr
+from conftest import Connector
 
 M, G = 1.0, 9.81
 N = M * G
@@ -38,24 +38,17 @@ class Block:
     """The master: one Planar FMU, node a prescribed, node b = the block (y only)."""
 
     def __init__(self, make_slave, decay, belt_v=0.0, name="block"):
-        self.s = make_slave("Planar", instance_name=name)
-        self.vr = vr("Planar")
+        params = {"friction.muStatic": MUS, "friction.muKinetic": MUK, "friction.decay": decay,
+                  "friction.R": 0.0, "friction.Fint": N, "friction.stickStiffness": KS}
+        con = Connector("Planar", make_slave("Planar", instance_name=name)).start(params, {"a.v[2]": belt_v})
+        # the per-step calls below go straight to the slave with value-reference lists made once
+        self.s, self.vr = con.s, con.v
         self.belt_v = belt_v
-        self.s.setupExperiment(startTime=0.0)
-        self.s.enterInitializationMode()
-        self._set({"friction.muStatic": MUS, "friction.muKinetic": MUK, "friction.decay": decay,
-                   "friction.R": 0.0, "friction.Fint": N, "friction.stickStiffness": KS,
-                   "a.v[2]": belt_v})
-        self.s.exitInitializationMode()
         self.t = self.y = self.v = 0.0
         self._in = [self.vr[n] for n in ("a.r[2]", "a.v[2]", "b.r[2]", "b.v[2]")]
         self._f, self._bv = [self.vr["b.f[2]"]], [self.vr["b.v[2]"]]
         self._out = [self.vr[n] for n in ("friction.status",)]
         self._slip = [self.vr["friction.slip"]]
-
-    def _set(self, values):
-        for name, val in values.items():
-            self.s.setReal([self.vr[name]], [float(val)])
 
     def step(self, f_ext):
         ya = self.belt_v * self.t

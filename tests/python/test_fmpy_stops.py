@@ -24,10 +24,10 @@ import math
 import numpy as np
 import pytest
 
-from conftest import Conn
+from conftest import Connector
 
 # --------------------------------------------------------------------------
-# poses (Conn, the name-based driver, is in conftest)
+# poses (Connector, the name-based driver, is scripts/cosim/driver.py)
 # --------------------------------------------------------------------------
 
 
@@ -120,7 +120,7 @@ def _run(make_slave, case, k, d, periods=1.25, h=H, extra_names=()):
     Rows belong to the step ends t_k+1: position c_k+1 and rate v_k (the rate over the step).
     'pre' loads are read after setting the inputs at t_k and before the step (direct
     feedthrough), so the trapezoid of the work over a step can use both ends."""
-    con = Conn(make_slave(case["variant"], instance_name=f"stop-{case['cp']}"), case["variant"])
+    con = Connector(case["variant"], make_slave(case["variant"], instance_name=f"stop-{case['cp']}"))
     params = _stop_params(case, k, d)
     n = int(round(periods * T_PERIOD / h))
     t = h * np.arange(n + 1)

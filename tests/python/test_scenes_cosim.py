@@ -10,17 +10,14 @@ charts and the stability map (scripts/charts) sweep the same scenes over the ste
 from __future__ import annotations
 
 import math
-import sys
 
 import numpy as np
 import pytest
 
-from conftest import REPO
-
-sys.path.insert(0, str(REPO / "scripts"))
-from cosim.master import METHODS, simulate  # noqa: E402
-from cosim.scenes import (G, Belt, Bounce, BushingEnergy, BushingFreq, OneStepMap,  # noqa: E402
-                          Oscillator, Puck)
+import conftest  # noqa: F401  (puts scripts/ on sys.path)
+from cosim.master import METHODS, simulate
+from cosim.scenes import (G, Belt, Bounce, BushingEnergy, BushingFreq, OneStepMap, Oscillator,
+                          Puck)
 
 
 def run(extracted, scene, method, H, **kw):
