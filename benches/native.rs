@@ -1,4 +1,4 @@
-//! Native benchmark (SPEC §8): the cost of the exported FMI functions, release build, called as
+//! Native benchmark (docs/benchmarks.md): the cost of the exported FMI functions, release build, called as
 //! an importer calls them (through `extern "C"` function pointers), against the floor of an
 //! empty FMI round trip measured side by side in the same run.
 //!

@@ -2,7 +2,7 @@
 //! fmi2ExitInitializationMode could hold a parameter combination that only initialization
 //! refuses (here friction.coupling = 1 with friction.R = 0; also stop.lower > stop.upper or
 //! μ_k > μ_s): the setters accept each value on its own and the cross-parameter rules are
-//! checked at fmi2ExitInitializationMode (SPEC §7). fmi2SerializeFMUstate wrote such a state,
+//! checked at fmi2ExitInitializationMode (docs/fmi.md, "Bad input"). fmi2SerializeFMUstate wrote such a state,
 //! but fmi2DeSerializeFMUstate ran the cross-parameter check on every state and refused the
 //! bytes ("invalid parameter friction.coupling = 1 needs friction.R > 0") — a state this FMU
 //! had written could not be read back. Fixed: de-serialization applies the cross-parameter

@@ -1,18 +1,18 @@
 """Independent numpy reference for the connector kinematics and loads.
 
 Written from the Abaqus manual pages in the seed (PROJECTION CARTESIAN,
-PROJECTION FLEXION-TORSION, RADIAL-THRUST, PLANAR) and SPEC section 4 only;
+PROJECTION FLEXION-TORSION, RADIAL-THRUST, PLANAR) and docs/physics.md (Kinematics) only;
 it shares no code with the Rust implementation, so a test comparing the FMU
 against it is a real cross-check.
 
-Conventions (SPEC section 3):
+Conventions (README, Conventions):
   * quaternions are scalar first (w, x, y, z) and map node-local coordinates
     to the world frame; e_i^a is column i of R(q_a);
   * d = x_b - x_a;
   * a small rotation of a node is applied in the world frame,
     q <- exp(theta) * q, about the node's own position.
 
-Node loads are obtained by virtual work (SPEC section 3): the load on a node is
+Node loads are obtained by virtual work (README, Conventions): the load on a node is
 -sum_i F_i dc_i/d(node motion).  The gradients dc_i/d(node motion) are taken by
 fourth-order central finite differences of this reference kinematics (step
 h = 5e-4), which keeps the reference free of any hand-derived (and possibly
@@ -130,12 +130,12 @@ def nearest_branch(principal, prev, period):
 
 
 # --------------------------------------------------------------------------
-# kinematics of the seed / SPEC section 4
+# kinematics of the manual / docs/physics.md, Kinematics
 # --------------------------------------------------------------------------
 
 
 def centred_triad(Ra, Rb, beta_prev=0.0):
-    """Centred projection triad of SPEC section 4.
+    """Centred projection triad of docs/physics.md, Kinematics.
 
     Returns (E, alpha1, alpha2, beta) with E the 3x3 matrix whose columns are
     e1, e2, e3.  beta is continued (2*pi*m) towards beta_prev.
@@ -188,7 +188,7 @@ def radial_thrust(d, Ra):
 
 
 def planar(d, Ra, Rb, alpha_prev=0.0):
-    """PLANAR = SLIDE-PLANE + REVOLUTE (SPEC section 4).
+    """PLANAR = SLIDE-PLANE + REVOLUTE (docs/physics.md, Kinematics).
 
     Returns dict with x (constrained, e1a.d), y, z, alpha (+n*pi branch by
     continuity towards alpha_prev) and the misalignment phi2 = -e3a.e1b,

@@ -1,4 +1,4 @@
-"""Bad input gets a clear error and nothing is lost (SPEC section 7), through fmpy's low-level
+"""Bad input gets a clear error and nothing is lost (docs/fmi.md, Bad input), through fmpy's low-level
 FMU2Slave API. One test (family) per row:
 
   non-finite input / parameter           fmi2Error from the setter, log names the variable,

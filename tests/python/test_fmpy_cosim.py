@@ -1,5 +1,5 @@
 """FMI 2.0 Co-Simulation capabilities of the connector FMUs, through fmpy's low-level
-FMU2Slave API (SPEC section 6):
+FMU2Slave API (docs/fmi.md):
 
   1. rollback with fmi2Get/SetFMUstate (bit for bit), serialized states restored into a fresh
      instance, corrupt / truncated / foreign serialized states refused, serialized size;
@@ -13,7 +13,7 @@ FMU2Slave API (SPEC section 6):
 Expected values never come from the FMU's internals: they are closed forms of the prescribed
 motion, repeated runs (bitwise), finite differences through the ABI, or the FMU's own algebraic
 outputs at the exact inputs (outputs are a function of the inputs at the current instant and
-the committed state, SPEC section 6 "direct feedthrough").
+the committed state, docs/fmi.md "direct feedthrough").
 """
 
 from __future__ import annotations
@@ -291,7 +291,7 @@ def _rollback_check(c, inputs_at, n_before):
         c.t = t_save
         restored.append(c.record())
         again = c.drive(inputs_at, N_ROLL, H_ROLL)
-        # bit for bit: == on every float, no tolerance (SPEC section 6)
+        # bit for bit: == on every float, no tolerance (docs/fmi.md)
         assert again == first
     return before, restored, first, state, t_save
 

@@ -1,4 +1,4 @@
-"""PLANAR predefined friction (seed pages 631-633, SPEC section 5) through fmpy.
+"""PLANAR predefined friction (the manual's PLANAR friction; docs/physics.md, PLANAR friction) through fmpy.
 
 Node a sits at the origin with the identity orientation (e1a, e2a, e3a = world x, y, z); node b
 follows a prescribed path of (y, z, alpha) = (e2a.d, e3a.d, rotation about e1a).  The path is
@@ -11,13 +11,13 @@ Expected values come from the seed:
   F_NC = |F_C + F_C^int|,  F_C = |f1| + sqrt(m2^2 + m3^2)/R   (bending dropped when R = 0)
   M_NR1 = |(2/3) R |f1| + sqrt(m2^2 + m3^2) + M_R1^int|
   Phi_C = sqrt(f2^2 + f3^2) - mu F_NC <= 0,  Phi_R1 = |m1| - mu M_NR1 <= 0
-and from the SPEC's stick model (elastic stick spring, radial return in the 2-3 plane, scalar
+and from the stick model of docs/physics.md (elastic stick spring, radial return in the 2-3 plane, scalar
 return for spin), mu = mu_k + (mu_s - mu_k) exp(-d_c rate).
 
 Normal load: either friction.Fint (b stays exactly in the plane, f1 = 0), or b pressed into the
 plane, x = -N / constraint.stiffness so that f1 = -N.
 
-Sign convention (SPEC section 3): CSF is the force IN the connector; when b slides +y relative
+Sign convention (README, Conventions): CSF is the force IN the connector; when b slides +y relative
 to a the stick spring is stretched, CSF2 > 0, and the load on b is b.f[2] = -CSF2 < 0.
 """
 

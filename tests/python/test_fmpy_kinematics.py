@@ -1,7 +1,7 @@
 """Kinematics, constitutive outputs and node loads of the connector FMUs,
 checked through fmpy against the independent numpy reference in _ref.py.
 
-Protocol (SPEC section 6, direct feedthrough): instantiate, setupExperiment,
+Protocol (docs/fmi.md, direct feedthrough): instantiate, setupExperiment,
 enterInitializationMode, set parameters and the initial pose,
 exitInitializationMode (this fixes x0, alpha10, ...), then set new inputs and
 read the outputs, usually without stepping.  Where a test steps, the node
@@ -87,7 +87,7 @@ def test_ref_pure_flexion():
 def test_ref_three_two_three_closed_form():
     # Rb = Rz(phi) Ry(alpha) Rz(beta - phi) relative to a: then q = Rz(phi) e2
     # (in a's frame), the torsion is beta and, working the construction of
-    # SPEC section 4 by hand, alpha1 = alpha sin(beta/2 - phi),
+    # docs/physics.md, Kinematics by hand, alpha1 = alpha sin(beta/2 - phi),
     # alpha2 = alpha cos(beta/2 - phi).
     rng = np.random.default_rng(2)
     for _ in range(50):
@@ -98,7 +98,7 @@ def test_ref_three_two_three_closed_form():
         assert abs(beta - be) < 1e-12
         assert abs(a1 - al * math.sin(be / 2 - phi)) < 1e-12
         assert abs(a2 - al * math.cos(be / 2 - phi)) < 1e-12
-        # properties SPEC section 4 lists
+        # properties docs/physics.md, Kinematics lists
         assert abs(a1**2 + a2**2 - _ref.flexion_angle(Ra, Rb) ** 2) < 1e-11
         assert _close(E.T @ E, np.eye(3), 1e-14) and abs(np.linalg.det(E) - 1) < 1e-14
         bis = (Ra[:, 2] + Rb[:, 2]) / np.linalg.norm(Ra[:, 2] + Rb[:, 2])
@@ -316,7 +316,7 @@ def test_flexion_components_make_total_flexion(connect, variant):
         set_pose(c, pose)
         got = c.named(["CPR1", "CPR2"])
         Ra, Rb = _ref.quat_to_matrix(pose["a.q"]), _ref.quat_to_matrix(pose["b.q"])
-        # alpha = acos(e3a . e3b) (seed page 636), evaluated as
+        # alpha = acos(e3a . e3b) (the manual), evaluated as
         # atan2(|e3a x e3b|, e3a . e3b): the same angle, without acos's
         # sqrt(eps) loss of accuracy near alpha = 0
         e3a, e3b = Ra[:, 2], Rb[:, 2]
@@ -442,7 +442,7 @@ def test_torsion_sweep_4pi_is_continuous(connect, variant, sign):
 
 @pytest.mark.parametrize("variant", WITH_TORSION)
 def test_torsion_principal_value_after_a_jump(connect, variant):
-    """SPEC 4: beta = atan2(...) with the 2 pi branch nearest the previous
+    """docs/physics.md, Kinematics: beta = atan2(...) with the 2 pi branch nearest the previous
     value; from 0, a torsion of 2.5 rad (one jump) is 2.5, not 2.5 - pi."""
     c = connect(variant, IDENTITY_POSE)
     for th in (2.5, -2.5, 1.7):
@@ -701,7 +701,7 @@ def test_loads_are_energy_gradient(connect, variant):
     <= 3e-12 on the current FMU; a plain two-point difference with h = 1e-6
     would only reach ~5e-10); tested at 1e-10 of the load scale.  Planar includes the penalty springs
     (constraint.stiffness, constraint.rotStiffness): their energy is stored
-    energy, as the energy balance of SPEC 5 needs."""
+    energy, as the energy balance of docs/physics.md, Behaviours needs."""
     rng = np.random.default_rng(1000 + ALL.index(variant))
     params = _spring_params(variant, rng, damping=False)
     init = _ref.random_pose(rng, variant, with_velocity=False)

@@ -1,4 +1,4 @@
-"""SCENES.md sections 2 and 3 with a tiny co-simulation master around the Planar FMU.
+"""docs/cosim.md, scenes 2 and 3 with a tiny co-simulation master around the Planar FMU.
 
 The master owns a block of mass m on node b and integrates only its sliding coordinate y
 (along e2a = world y) with semi-implicit Euler and explicit coupling:

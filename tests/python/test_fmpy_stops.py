@@ -1,4 +1,4 @@
-"""Connector stops (SPEC section 5) through fmpy: Bushing, RadialThrust and Planar.
+"""Connector stops (docs/physics.md, Behaviours) through fmpy: Bushing, RadialThrust and Planar.
 
 A stop is a one-sided penalty on a component POSITION c (x, r, y, beta, alpha, ...):
   upper stop, penetration p = c - upper > 0:  F =  max(0, k p + c_s dp/dt),  CSLST = +1
@@ -163,7 +163,7 @@ def test_stop_engages_and_releases(make_slave, name):
     assert np.allclose(r[case["cp"]], r["c"], rtol=0, atol=1e-12)
     assert np.allclose(r[case["cv"]], r["v"], rtol=0, atol=1e-9)
 
-    # status: position-based, as SPEC section 4 says stops act on positions
+    # status: position-based, as docs/physics.md, Kinematics says stops act on positions
     exp = np.array([_expected_stop(c, v, upper, lower, k, d) for c, v in zip(r["c"], r["v"])])
     assert np.array_equal(r["status"], exp[:, 1].astype(int))
     runs = [int(s) for j, s in enumerate(r["status"]) if j == 0 or s != r["status"][j - 1]]

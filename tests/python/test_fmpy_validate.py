@@ -1,6 +1,6 @@
 """Packaging and interface of the connector FMUs, through fmpy:
 validation, a default simulation, the variable set each variant exposes
-(SPEC sections 2 and 3) and the units of its Real variables."""
+(README, Variants and Variables) and the units of its Real variables."""
 
 from __future__ import annotations
 

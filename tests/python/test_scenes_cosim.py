@@ -1,9 +1,9 @@
-"""Scenes with known answers (SCENES.md §1, §4–§7) through the co-simulation master of
+"""Scenes with known answers (docs/cosim.md, scenes 1 and 4–7) through the co-simulation master of
 scripts/cosim: the master owns the body, the connector FMU returns the load on node b, and one of
 the four coupling methods (zoh, extrapolation, linear_implicit, rollback) couples them.
 
 Each test runs at a step small enough to pass robustly and states its tolerance; the references
-are closed forms (SCENES.md) or independent computations in scripts/cosim/scenes.py (the exact
+are closed forms (docs/cosim.md) or independent computations in scripts/cosim/scenes.py (the exact
 disc for the coupled puck, the closed-form amplification matrices for §7). The work-precision
 charts and the stability map (scripts/charts) sweep the same scenes over the step size.
 """
@@ -53,7 +53,7 @@ def puck1(extracted):
 def test_puck_coupling1_both_stop_together(puck1):
     """friction.coupling = 1: sliding and spin stop at the same instant (|t_v − t_ω| within 1 %
     of t_stop), and t_stop is within 7 % of the exact uniform-pressure disc (the ellipsoidal
-    limit surface lies up to 7 % outside the disc's: SCENES §4)."""
+    limit surface lies up to 7 % outside the disc's: docs/cosim.md, scene 4)."""
     puck, out, _ = puck1
     ref = puck.reference()
     assert out["stop_gap"] <= 0.01 * out["t_stop"], out
@@ -72,7 +72,7 @@ def test_puck_coupling1_follows_the_fmus_law(puck1):
 
 
 def test_puck_coupling1_ratio_tends_to_0653(puck1):
-    """SCENES §4: v/(R ω) → 0.653 ± 0.02, read where v = 1e-3 v0 (the exact disc gives 0.661
+    """docs/cosim.md, scene 4: v/(R ω) → 0.653 ± 0.02, read where v = 1e-3 v0 (the exact disc gives 0.661
     there, computed independently in scenes.disc_reference; the FMU's law the same, since its
     direction is the disc's)."""
     puck, out, _ = puck1
@@ -206,7 +206,7 @@ def test_zoh_grows_and_linear_implicit_does_not_in_a_run(extracted):
 def test_bounce_on_the_clipped_stop(extracted):
     """ζ = 0.1: geometric contact time and restitution of the clipped stop within 0.05 %
     (extrapolation, H = 1e-5 s; measured 7e-5); its e = 0.7441 is above the linear stop's
-    exp(−πζ/sqrt(1 − ζ²)) = 0.7292, as SCENES §5 says."""
+    exp(−πζ/sqrt(1 − ζ²)) = 0.7292, as docs/cosim.md, scene 5 says."""
     bounce = Bounce()
     ref = bounce.reference()
     out, _ = run(extracted, bounce, "extrapolation", 1e-5)
