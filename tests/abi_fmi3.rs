@@ -617,7 +617,8 @@ fn unsupported_functions_answer_error_with_one_message() {
     let (mut b, mut x, mut n) = (0u8, 0.0, 0usize);
     let (mut u, mut q) = (0u64, 0 as fmi3IntervalQualifier);
     let vr = 1u32;
-    let calls: Vec<(&str, Box<dyn Fn() -> fmi3Status>)> = vec![
+    type Call<'a> = (&'a str, Box<dyn Fn() -> fmi3Status + 'a>);
+    let calls: Vec<Call> = vec![
         ("fmi3EnterEventMode", Box::new(|| fmi3EnterEventMode(c))),
         ("fmi3EnterStepMode", Box::new(|| fmi3EnterStepMode(c))),
         (
@@ -1039,10 +1040,15 @@ fn variable_dependencies_follow_the_fmi2_model_structure() {
 
 // ------------------------------------------------------------------ the FMI 2.0 twin
 
+/// Sets a named parameter or input on both twins.
+type SetBoth<'a> = &'a dyn Fn(&str, f64);
+/// The set-up of a twin run: the parameters and initial inputs, through a `SetBoth`.
+type Setup<'a> = &'a dyn Fn(SetBoth);
+
 /// An FMI 2.0 instance of the same variant (through the fmi2* exports).
 struct Fmu2(common::Fmu);
 
-fn drive(v: Variant, setup: &dyn Fn(&dyn Fn(&str, f64))) -> (Fmu2, Fmu3) {
+fn drive(v: Variant, setup: Setup) -> (Fmu2, Fmu3) {
     let f2i = Fmu2(common::Fmu::new(v));
     let f3i = Fmu3::new(v);
     assert_eq!(f2i.0.setup(), fmi2Status::OK);
@@ -1058,7 +1064,7 @@ fn drive(v: Variant, setup: &dyn Fn(&dyn Fn(&str, f64))) -> (Fmu2, Fmu3) {
 }
 
 /// Steps both twins along the same input path and compares every output bit for bit.
-fn compare_twins(v: Variant, setup: &dyn Fn(&dyn Fn(&str, f64)), path: &dyn Fn(f64) -> [f64; 6]) {
+fn compare_twins(v: Variant, setup: Setup, path: &dyn Fn(f64) -> [f64; 6]) {
     let (a, b) = drive(v, setup);
     let (reals, ints) = (outputs(v, false), outputs(v, true));
     let names = ["b.r[1]", "b.r[2]", "b.v[1]", "b.v[2]", "b.w[3]", "b.r[3]"];
