@@ -30,6 +30,7 @@ build_release() {
 package_fmus() {
     echo "==> packaging FMUs into dist/"
     "$PY" scripts/package.py
+    "$PY" scripts/package_fmi3.py
 }
 
 # Everything scripts/run installs: venv, release library, packaged FMUs.

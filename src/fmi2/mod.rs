@@ -4,7 +4,7 @@
 //! pointer; every other decision is `crate::instance::ModelInstance`'s.
 
 #[macro_use]
-mod boundary;
+pub(crate) mod boundary;
 pub mod exports;
 mod logger;
 mod policy;

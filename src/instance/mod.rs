@@ -25,6 +25,35 @@ use crate::physics::math::Real;
 use cache::OutputCache;
 
 pub use crate::model::snapshot::Mode;
+pub(crate) use values::type_name;
+
+/// The FMI version an instance answers for: it chooses the names in messages (states, types,
+/// functions); the state machine and the model are the same.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FmiVersion {
+    /// FMI 2.0 Co-Simulation (fmi2Instantiate).
+    V2,
+    /// FMI 3.0 Co-Simulation (fmi3InstantiateCoSimulation): Step Mode is `Mode::StepComplete`.
+    V3,
+}
+
+impl FmiVersion {
+    /// The prefix of the version's function names (`fmi2`, `fmi3`).
+    pub fn prefix(self) -> &'static str {
+        match self {
+            FmiVersion::V2 => "fmi2",
+            FmiVersion::V3 => "fmi3",
+        }
+    }
+
+    /// A mode as this version's state machine names it.
+    pub fn mode_name(self, m: Mode) -> String {
+        match (self, m) {
+            (FmiVersion::V3, Mode::StepComplete) => "StepMode".to_string(),
+            _ => format!("{m:?}"),
+        }
+    }
+}
 
 /// The FMI calls whose allowed states differ (Reference-FMUs masks, CS columns).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -101,6 +130,7 @@ pub struct ModelInstance {
     logger: Box<dyn LogSink>,
     logging_on: bool,
     categories: [bool; 4],
+    fmi: FmiVersion,
     s: Snapshot,
     /// Outputs at the current inputs and committed state.
     cache: OutputCache,
@@ -118,9 +148,21 @@ impl ModelInstance {
             logger,
             logging_on,
             categories: [true; 4],
+            fmi: FmiVersion::V2,
             s: Snapshot::start(table),
             cache: OutputCache::new(),
         }
+    }
+
+    /// The same instance answering for another FMI version (names in its messages).
+    pub fn with_version(mut self, fmi: FmiVersion) -> Self {
+        self.fmi = fmi;
+        self
+    }
+
+    /// The FMI version the instance answers for.
+    pub fn version(&self) -> FmiVersion {
+        self.fmi
     }
 
     /// The instance name given to fmi2Instantiate.
@@ -163,8 +205,8 @@ impl ModelInstance {
             Ok(())
         } else {
             Err(FmuError::error(format!(
-                "the call is not allowed in state {:?}",
-                self.s.mode
+                "the call is not allowed in state {}",
+                self.fmi.mode_name(self.s.mode)
             )))
         }
     }

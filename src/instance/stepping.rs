@@ -1,7 +1,7 @@
 //! fmi2DoStep: advance from t to t + h along the input extrapolation; the step's status.
 
 use super::ModelInstance;
-use super::{singular_text, Call};
+use super::{singular_text, Call, FmiVersion};
 use crate::error::{Category, FmuError, FmuResult, Level};
 use crate::model::access::{non_finite_cause, write_node};
 use crate::model::snapshot::Mode;
@@ -79,7 +79,11 @@ impl ModelInstance {
                     }
                     _ => String::new(),
                 };
-                Err(step_error(t, h, e, &cause))
+                let recover = match self.fmi {
+                    FmiVersion::V2 => "fmi2Reset or fmi2SetFMUstate recovers",
+                    FmiVersion::V3 => "fmi3Reset or fmi3SetFMUState recovers",
+                };
+                Err(step_error(t, h, e, &cause, recover))
             }
         }
     }
@@ -143,10 +147,10 @@ impl ModelInstance {
 /// The message of a refused fmi2DoStep(t, h) (off the hot path).
 #[cold]
 #[inline(never)]
-fn step_error(t: Real, h: Real, e: StepError, not_finite: &str) -> FmuError {
+fn step_error(t: Real, h: Real, e: StepError, not_finite: &str, recover: &str) -> FmuError {
     FmuError::error(match e {
         StepError::Singular(s, tau) => format!(
-            "at t = {:?}: {}; the state at t = {t:?} is kept (fmi2Reset or fmi2SetFMUstate recovers)",
+            "at t = {:?}: {}; the state at t = {t:?} is kept ({recover})",
             t + tau,
             singular_text(s)
         ),

@@ -1,7 +1,7 @@
 //! Get and set through the variable table: every value reference and type is checked, and a
 //! set call is all or nothing (a rejected value leaves the instance as it was).
 
-use super::{Call, ModelInstance};
+use super::{Call, FmiVersion, ModelInstance};
 use crate::error::{FmuError, FmuResult};
 use crate::model::access::{
     node_loads, read_int_param, read_output, read_real_param, write_int, write_real, Ty,
@@ -18,7 +18,7 @@ impl ModelInstance {
     pub(super) fn var(&self, vr: u32, want: Ty) -> FmuResult<&'static VarSpec> {
         match self.table.get(vr) {
             Some(v) if Ty::of(&v.start) == want => Ok(v),
-            found => Err(var_error(vr, found, want)),
+            found => Err(var_error(vr, found, want, self.fmi)),
         }
     }
 
@@ -279,13 +279,25 @@ impl ModelInstance {
 
 /// The message for an unknown VR or a VR of another type (off the hot path).
 #[cold]
-fn var_error(vr: u32, found: Option<&VarSpec>, want: Ty) -> FmuError {
+fn var_error(vr: u32, found: Option<&VarSpec>, want: Ty, fmi: FmiVersion) -> FmuError {
     match found {
         None => FmuError::error(format!("unknown value reference {vr}")),
         Some(v) => FmuError::error(format!(
-            "variable {} (vr {vr}) is of type {:?}, not {want:?}",
+            "variable {} (vr {vr}) is of type {}, not {}",
             v.name,
-            Ty::of(&v.start)
+            type_name(Ty::of(&v.start), fmi),
+            type_name(want, fmi)
         )),
+    }
+}
+
+/// A variable type as the FMI version spells it.
+pub(crate) fn type_name(ty: Ty, fmi: FmiVersion) -> &'static str {
+    match (ty, fmi) {
+        (Ty::Real, FmiVersion::V2) => "Real",
+        (Ty::Integer, FmiVersion::V2) => "Integer",
+        (Ty::Real, FmiVersion::V3) => "Float64",
+        (Ty::Integer, FmiVersion::V3) => "Int32",
+        (Ty::Boolean, _) => "Boolean",
     }
 }

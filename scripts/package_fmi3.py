@@ -1,0 +1,102 @@
+#!/usr/bin/env python3
+"""Package every variant into dist/fmi3/<Variant>.fmu (FMI 3.0 Co-Simulation, x86_64-linux).
+
+Each FMU holds modelDescription.xml (modelDescription/fmi3/<Variant>.xml with the commit time as
+generationDateAndTime), binaries/x86_64-linux/<Variant>.so (the same stripped library as the
+FMI 2.0 FMUs: it exports both the fmi2* and the fmi3* functions) and documentation/index.html
+generated from the model description. Helpers come from package.py (the FMI 2.0 packager).
+Usage: package_fmi3.py [Variant ...]   (default: all five)
+"""
+import html
+import sys
+import xml.etree.ElementTree as ET
+import zipfile
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from package import (CONVENTIONS, LIBRARY, REPO, VARIANTS, add, generation_date,  # noqa: E402
+                     stripped_library, with_generation_date)
+
+TYPES = ("Float32", "Float64", "Int8", "UInt8", "Int16", "UInt16", "Int32", "UInt32", "Int64",
+         "UInt64", "Boolean", "String", "Binary", "Enumeration", "Clock")
+
+NOT_PROVIDED = """<h2>FMI 3.0 interface</h2>
+<p>Co-Simulation only, without Event Mode, clocks or early return: every <code>fmi3DoStep</code>
+completes the whole step. Declared and provided: variable communication step size, get/set and
+serialize FMU state, directional and adjoint derivatives, variable dependencies. The Model
+Exchange and Scheduled Execution functions, Event Mode, clocks, configuration mode and output
+derivatives answer <code>fmi3Error</code> with a log message naming the function and why.</p>
+"""
+
+
+def documentation(root: ET.Element) -> str:
+    """Short HTML page: model name, description, FMI 3.0 interface, conventions, variables."""
+    rows = []
+    for var in root.find("ModelVariables") or []:
+        if var.tag not in TYPES:
+            continue
+        cells = [var.get("name"), var.get("valueReference"), var.get("causality", "local"),
+                 var.get("variability", "continuous"), var.tag, var.get("start", ""),
+                 var.get("unit", ""), var.get("description", "")]
+        rows.append("<tr>" + "".join(f"<td>{html.escape(c or '')}</td>" for c in cells) + "</tr>")
+    name = html.escape(root.get("modelName", ""))
+    head = "".join(f"<th>{h}</th>" for h in
+                   ("name", "valueReference", "causality", "variability", "type", "start", "unit", "description"))
+    return f"""<!DOCTYPE html>
+<html><head><meta charset="utf-8"><title>{name}</title>
+<style>body{{font-family:sans-serif}} table{{border-collapse:collapse}} td,th{{border:1px solid #999;padding:2px 6px}}</style>
+</head><body>
+<h1>{name}</h1>
+<p>{html.escape(root.get("description", ""))}</p>
+<p>FMI {html.escape(root.get("fmiVersion", ""))} Co-Simulation FMU, instantiationToken
+<code>{html.escape(root.get("instantiationToken", ""))}</code>.</p>
+{NOT_PROVIDED}{CONVENTIONS}<h2>Variables</h2>
+<table>
+<tr>{head}</tr>
+{chr(10).join(rows)}
+</table>
+</body></html>
+"""
+
+
+def package(variant: str, out_dir: Path, binary: bytes, date: str | None) -> Path:
+    xml_path = REPO / "modelDescription" / "fmi3" / f"{variant}.xml"
+    if not xml_path.is_file():
+        sys.exit(f"error: {xml_path.relative_to(REPO)} is missing; generate it with\n"
+                 "  cargo run --release --bin gen_model_description -- modelDescription")
+    xml = with_generation_date(xml_path.read_bytes(), date)
+    root = ET.fromstring(xml)
+    if root.get("fmiVersion") != "3.0":
+        sys.exit(f"error: {xml_path.relative_to(REPO)} is not an FMI 3.0 model description")
+    cs = root.find("CoSimulation")
+    identifier = cs.get("modelIdentifier") if cs is not None else None
+    if identifier != variant:
+        sys.exit(f"error: {xml_path.name}: CoSimulation modelIdentifier is {identifier!r}, expected {variant!r}")
+    fmu = out_dir / f"{variant}.fmu"
+    tmp = fmu.with_suffix(".fmu.tmp")
+    with zipfile.ZipFile(tmp, "w") as zf:
+        add(zf, "modelDescription.xml", xml)
+        add(zf, f"binaries/x86_64-linux/{identifier}.so", binary, 0o755)
+        add(zf, "documentation/index.html", documentation(root).encode("utf-8"))
+    tmp.replace(fmu)
+    return fmu
+
+
+def main() -> None:
+    variants = sys.argv[1:] or VARIANTS
+    unknown = sorted(set(variants) - set(VARIANTS))
+    if unknown:
+        sys.exit(f"error: unknown variant(s) {', '.join(unknown)}; known: {', '.join(VARIANTS)}")
+    if not LIBRARY.is_file():
+        sys.exit(f"error: {LIBRARY.relative_to(REPO)} is missing; run cargo build --release")
+    out_dir = REPO / "dist" / "fmi3"
+    out_dir.mkdir(parents=True, exist_ok=True)
+    binary = stripped_library(LIBRARY, REPO / "dist" / "debug")
+    date = generation_date()
+    for v in variants:
+        fmu = package(v, out_dir, binary, date)
+        print(f"{str(fmu.relative_to(REPO)):<36} {fmu.stat().st_size:>12,d} bytes")
+
+
+if __name__ == "__main__":
+    main()

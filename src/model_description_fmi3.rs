@@ -1,0 +1,381 @@
+//! The FMI 3.0 `modelDescription.xml` generated from the same variable tables as the FMI 2.0
+//! one (`model_description`): same names, value references, units, start values, causality and
+//! variability; Real → Float64, Integer → Int32, Boolean → Boolean; `instantiationToken` is
+//! the FMI 2.0 GUID. A pure function, no I/O: the committed files under `modelDescription/fmi3/`
+//! must equal its output. The model structure (`dependencies`) is also what
+//! fmi3GetVariableDependencies answers at run time.
+
+use crate::error::Category;
+use crate::model::variables::{table, Causality, Deps, Field, Start, Table, Variability, Variant};
+use crate::model_description::xml_real;
+use serde::Serialize;
+
+/// The value reference of the independent variable `time` (FMI 3.0 requires one; no table
+/// uses 0). fmi3GetFloat64 reads the FMU's time through it; it cannot be set.
+pub const TIME_VR: u32 = 0;
+
+/// Capability flags of the FMI 3.0 Co-Simulation element, declared only for what works and is
+/// tested (tests/abi_fmi3.rs, tests/python/test_fmpy_fmi3.py).
+pub mod capabilities {
+    /// fmi3DoStep with any communicationStepSize > 0.
+    pub const CAN_HANDLE_VARIABLE_COMMUNICATION_STEP_SIZE: bool = true;
+    /// fmi3GetFMUState / fmi3SetFMUState / fmi3FreeFMUState.
+    pub const CAN_GET_AND_SET_FMU_STATE: bool = true;
+    /// fmi3SerializeFMUState and friends (the FMI 2.0 byte format).
+    pub const CAN_SERIALIZE_FMU_STATE: bool = true;
+    /// fmi3GetDirectionalDerivative (the FMI 2.0 tangent).
+    pub const PROVIDES_DIRECTIONAL_DERIVATIVES: bool = true;
+    /// fmi3GetAdjointDerivative (Jᵀ·v from the directional derivatives' columns).
+    pub const PROVIDES_ADJOINT_DERIVATIVES: bool = true;
+    /// No intermediate update callback is ever called.
+    pub const PROVIDES_INTERMEDIATE_UPDATE: bool = false;
+    /// fmi3DoStep always completes the step (no event location yet).
+    pub const MIGHT_RETURN_EARLY_FROM_DO_STEP: bool = false;
+    /// Needs intermediate update.
+    pub const CAN_RETURN_EARLY_AFTER_INTERMEDIATE_UPDATE: bool = false;
+    /// No events or clocks: fmi3EnterEventMode answers fmi3Error.
+    pub const HAS_EVENT_MODE: bool = false;
+}
+
+#[derive(Serialize)]
+#[serde(rename = "fmiModelDescription")]
+struct ModelDescription {
+    #[serde(rename = "@fmiVersion")]
+    fmi_version: &'static str,
+    #[serde(rename = "@modelName")]
+    model_name: &'static str,
+    #[serde(rename = "@instantiationToken")]
+    token: String,
+    #[serde(rename = "@description")]
+    description: &'static str,
+    #[serde(rename = "@generationTool")]
+    generation_tool: String,
+    #[serde(rename = "@variableNamingConvention")]
+    naming: &'static str,
+    #[serde(rename = "CoSimulation")]
+    co_simulation: CoSimulation,
+    #[serde(rename = "UnitDefinitions")]
+    units: UnitDefinitions,
+    #[serde(rename = "LogCategories")]
+    log_categories: LogCategories,
+    #[serde(rename = "DefaultExperiment")]
+    default_experiment: DefaultExperiment,
+    #[serde(rename = "ModelVariables")]
+    variables: ModelVariables,
+    #[serde(rename = "ModelStructure")]
+    structure: ModelStructure,
+}
+
+#[derive(Serialize)]
+struct CoSimulation {
+    #[serde(rename = "@modelIdentifier")]
+    model_identifier: &'static str,
+    #[serde(rename = "@needsExecutionTool")]
+    needs_execution_tool: bool,
+    #[serde(rename = "@canBeInstantiatedOnlyOncePerProcess")]
+    once_per_process: bool,
+    #[serde(rename = "@canGetAndSetFMUState")]
+    get_set_state: bool,
+    #[serde(rename = "@canSerializeFMUState")]
+    serialize_state: bool,
+    #[serde(rename = "@providesDirectionalDerivatives")]
+    directional: bool,
+    #[serde(rename = "@providesAdjointDerivatives")]
+    adjoint: bool,
+    #[serde(rename = "@providesPerElementDependencies")]
+    per_element_dependencies: bool,
+    #[serde(rename = "@canHandleVariableCommunicationStepSize")]
+    variable_step: bool,
+    #[serde(rename = "@maxOutputDerivativeOrder")]
+    max_output_derivative_order: u32,
+    #[serde(rename = "@providesIntermediateUpdate")]
+    intermediate_update: bool,
+    #[serde(rename = "@mightReturnEarlyFromDoStep")]
+    might_return_early: bool,
+    #[serde(rename = "@canReturnEarlyAfterIntermediateUpdate")]
+    early_after_intermediate: bool,
+    #[serde(rename = "@hasEventMode")]
+    has_event_mode: bool,
+    #[serde(rename = "@providesEvaluateDiscreteStates")]
+    evaluate_discrete_states: bool,
+}
+
+#[derive(Serialize)]
+struct UnitDefinitions {
+    #[serde(rename = "Unit")]
+    units: Vec<Unit>,
+}
+
+#[derive(Serialize)]
+struct Unit {
+    #[serde(rename = "@name")]
+    name: &'static str,
+    #[serde(rename = "BaseUnit")]
+    base: BaseUnit,
+}
+
+#[derive(Serialize, Default)]
+struct BaseUnit {
+    #[serde(rename = "@kg", skip_serializing_if = "is_zero")]
+    kg: i32,
+    #[serde(rename = "@m", skip_serializing_if = "is_zero")]
+    m: i32,
+    #[serde(rename = "@s", skip_serializing_if = "is_zero")]
+    s: i32,
+    #[serde(rename = "@rad", skip_serializing_if = "is_zero")]
+    rad: i32,
+}
+
+fn is_zero(x: &i32) -> bool {
+    *x == 0
+}
+
+#[derive(Serialize)]
+struct LogCategories {
+    #[serde(rename = "Category")]
+    categories: Vec<LogCategory>,
+}
+
+#[derive(Serialize)]
+struct LogCategory {
+    #[serde(rename = "@name")]
+    name: &'static str,
+    #[serde(rename = "@description")]
+    description: String,
+}
+
+#[derive(Serialize)]
+struct DefaultExperiment {
+    #[serde(rename = "@startTime")]
+    start: &'static str,
+    #[serde(rename = "@stopTime")]
+    stop: &'static str,
+    #[serde(rename = "@stepSize")]
+    step: &'static str,
+}
+
+#[derive(Serialize)]
+struct ModelVariables {
+    #[serde(rename = "$value")]
+    vars: Vec<Variable>,
+}
+
+/// One variable element; its name is the FMI 3.0 type.
+#[derive(Serialize)]
+enum Variable {
+    Float64(Var),
+    Int32(Var),
+    Boolean(Var),
+}
+
+#[derive(Serialize)]
+struct Var {
+    #[serde(rename = "@name")]
+    name: String,
+    #[serde(rename = "@valueReference")]
+    vr: u32,
+    #[serde(rename = "@description")]
+    description: String,
+    #[serde(rename = "@causality")]
+    causality: &'static str,
+    #[serde(rename = "@variability")]
+    variability: &'static str,
+    #[serde(rename = "@unit", skip_serializing_if = "Option::is_none")]
+    unit: Option<&'static str>,
+    #[serde(rename = "@start", skip_serializing_if = "Option::is_none")]
+    start: Option<String>,
+}
+
+#[derive(Serialize)]
+struct ModelStructure {
+    #[serde(rename = "Output")]
+    outputs: Vec<Unknown>,
+    #[serde(rename = "InitialUnknown")]
+    initial: Vec<Unknown>,
+}
+
+#[derive(Serialize)]
+struct Unknown {
+    #[serde(rename = "@valueReference")]
+    vr: u32,
+    #[serde(rename = "@dependencies")]
+    dependencies: String,
+}
+
+/// Units used by the tables, with their SI base-unit exponents (the FMI 2.0 description
+/// declares the same; tests/model_description_fmi3.rs compares the two).
+const UNITS: [(&str, [i32; 4]); 13] = [
+    ("m", [0, 1, 0, 0]),
+    ("rad", [0, 0, 0, 1]),
+    ("m/s", [0, 1, -1, 0]),
+    ("rad/s", [0, 0, -1, 1]),
+    ("N", [1, 1, -2, 0]),
+    ("N.m", [1, 2, -2, 0]),
+    ("J", [1, 2, -2, 0]),
+    ("N/m", [1, 0, -2, 0]),
+    ("N.s/m", [1, 0, -1, 0]),
+    ("N.m/rad", [1, 2, -2, -1]),
+    ("N.m.s/rad", [1, 2, -1, -1]),
+    ("s/m", [0, -1, 1, 0]),
+    ("s", [0, 0, 1, 0]),
+];
+
+/// The knowns an output of `t` depends on, as value references in increasing order: at
+/// communication points (`initial == false`, ModelStructure/Output) the node inputs its
+/// `Deps` names; in Initialization Mode (`initial == true`, ModelStructure/InitialUnknown)
+/// also every parameter, for an output that depends on anything. None when `vr` is not an
+/// output of the table.
+pub fn dependencies(t: &Table, vr: u32, initial: bool) -> Option<Vec<u32>> {
+    let v = t.get(vr).filter(|v| v.causality == Causality::Output)?;
+    let mut deps: Vec<u32> = t
+        .vars
+        .iter()
+        .filter(|k| match (v.deps, k.causality, k.field) {
+            (Deps::None, _, _) => false,
+            (_, Causality::Parameter, _) => initial,
+            (Deps::All, Causality::Input, _) => true,
+            (Deps::Pose, Causality::Input, Field::Input { idx, .. }) => idx < 7,
+            _ => false,
+        })
+        .map(|k| k.vr)
+        .collect();
+    deps.sort_unstable();
+    Some(deps)
+}
+
+/// The FMI 3.0 model description of a variant as XML text.
+pub fn model_description(v: Variant) -> String {
+    let md = build(table(v));
+    let mut body = String::new();
+    let mut ser = quick_xml::se::Serializer::new(&mut body);
+    ser.indent(' ', 2);
+    // Why no `?`: serialising plain structs into a String cannot fail; an error here would
+    // be a bug in the structs above, which the drift test would show at once.
+    if md.serialize(ser).is_err() {
+        return String::new();
+    }
+    format!("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n{body}\n")
+}
+
+fn causality(c: Causality) -> &'static str {
+    match c {
+        Causality::Parameter => "parameter",
+        Causality::Input => "input",
+        Causality::Output => "output",
+    }
+}
+
+fn variability(v: Variability) -> &'static str {
+    match v {
+        Variability::Fixed => "fixed",
+        Variability::Tunable => "tunable",
+        Variability::Discrete => "discrete",
+        Variability::Continuous => "continuous",
+    }
+}
+
+fn build(t: &Table) -> ModelDescription {
+    let spec = t.spec;
+    let mut used: std::collections::BTreeSet<&str> = t.vars.iter().map(|v| v.unit).collect();
+    used.insert("s"); // time
+    let units = UNITS
+        .iter()
+        .filter(|(n, _)| used.contains(n))
+        .map(|&(name, [kg, m, s, rad])| Unit {
+            name,
+            base: BaseUnit { kg, m, s, rad },
+        })
+        .collect();
+    let time = Variable::Float64(Var {
+        name: "time".to_string(),
+        vr: TIME_VR,
+        description: "simulation time".to_string(),
+        causality: "independent",
+        variability: "continuous",
+        unit: Some("s"),
+        start: None,
+    });
+    let vars = std::iter::once(time)
+        .chain(t.vars.iter().map(|v| {
+            let var = |start: Option<String>, unit: Option<&'static str>| Var {
+                name: v.name.clone(),
+                vr: v.vr,
+                description: v.description.clone(),
+                causality: causality(v.causality),
+                variability: variability(v.variability),
+                unit,
+                start,
+            };
+            match v.start {
+                Start::Real(s) => Variable::Float64(var(
+                    s.map(xml_real),
+                    (!v.unit.is_empty() && v.unit != "1").then_some(v.unit),
+                )),
+                Start::Integer(s) => Variable::Int32(var(s.map(|x| x.to_string()), None)),
+                Start::Boolean(s) => Variable::Boolean(var(s.map(|x| x.to_string()), None)),
+            }
+        }))
+        .collect();
+    let join = |d: Vec<u32>| {
+        d.iter()
+            .map(|x| x.to_string())
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    let unknowns = |initial: bool| {
+        t.vars
+            .iter()
+            .filter(|v| v.causality == Causality::Output)
+            .map(|v| Unknown {
+                vr: v.vr,
+                dependencies: join(dependencies(t, v.vr, initial).unwrap_or_default()),
+            })
+            .collect()
+    };
+    use capabilities::*;
+    ModelDescription {
+        fmi_version: "3.0",
+        model_name: spec.model_identifier,
+        token: t.guid.clone(),
+        description: spec.description,
+        generation_tool: format!("connector_fmu {}", env!("CARGO_PKG_VERSION")),
+        naming: "structured",
+        co_simulation: CoSimulation {
+            model_identifier: spec.model_identifier,
+            needs_execution_tool: false,
+            once_per_process: false,
+            get_set_state: CAN_GET_AND_SET_FMU_STATE,
+            serialize_state: CAN_SERIALIZE_FMU_STATE,
+            directional: PROVIDES_DIRECTIONAL_DERIVATIVES,
+            adjoint: PROVIDES_ADJOINT_DERIVATIVES,
+            per_element_dependencies: false,
+            variable_step: CAN_HANDLE_VARIABLE_COMMUNICATION_STEP_SIZE,
+            max_output_derivative_order: 0,
+            intermediate_update: PROVIDES_INTERMEDIATE_UPDATE,
+            might_return_early: MIGHT_RETURN_EARLY_FROM_DO_STEP,
+            early_after_intermediate: CAN_RETURN_EARLY_AFTER_INTERMEDIATE_UPDATE,
+            has_event_mode: HAS_EVENT_MODE,
+            evaluate_discrete_states: false,
+        },
+        units: UnitDefinitions { units },
+        log_categories: LogCategories {
+            categories: Category::ALL
+                .iter()
+                .map(|c| LogCategory {
+                    name: c.name(),
+                    description: c.description().replace("fmi2", "fmi3"),
+                })
+                .collect(),
+        },
+        default_experiment: DefaultExperiment {
+            start: "0",
+            stop: "1",
+            step: "0.001",
+        },
+        variables: ModelVariables { vars },
+        structure: ModelStructure {
+            outputs: unknowns(false),
+            initial: unknowns(true),
+        },
+    }
+}
