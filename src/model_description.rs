@@ -214,8 +214,9 @@ struct Unknown {
     dependencies: String,
 }
 
-/// Units used by the tables, with their SI base-unit exponents.
-const UNITS: [(&str, [i32; 4]); 13] = [
+/// Units used by the tables, with their SI base-unit exponents (kg, m, s, rad); the FMI 3.0
+/// description declares the same.
+pub const UNITS: [(&str, [i32; 4]); 13] = [
     ("m", [0, 1, 0, 0]),
     ("rad", [0, 0, 0, 1]),
     ("m/s", [0, 1, -1, 0]),

@@ -6,8 +6,8 @@
 //! fmi3GetVariableDependencies answers at run time.
 
 use crate::error::Category;
-use crate::model::variables::{table, Causality, Deps, Field, Start, Table, Variability, Variant};
-use crate::model_description::xml_real;
+use crate::model::variables::{table, Causality, Start, Table, Variability, Variant};
+use crate::model_description::{xml_real, UNITS};
 use serde::Serialize;
 
 /// The value reference of the independent variable `time` (FMI 3.0 requires one; no table
@@ -48,6 +48,14 @@ struct ModelDescription {
     token: String,
     #[serde(rename = "@description")]
     description: &'static str,
+    #[serde(rename = "@author")]
+    author: &'static str,
+    #[serde(rename = "@version")]
+    version: &'static str,
+    #[serde(rename = "@copyright")]
+    copyright: &'static str,
+    #[serde(rename = "@license")]
+    license: &'static str,
     #[serde(rename = "@generationTool")]
     generation_tool: String,
     #[serde(rename = "@variableNamingConvention")]
@@ -182,6 +190,10 @@ struct Var {
     variability: &'static str,
     #[serde(rename = "@unit", skip_serializing_if = "Option::is_none")]
     unit: Option<&'static str>,
+    #[serde(rename = "@min", skip_serializing_if = "Option::is_none")]
+    min: Option<String>,
+    #[serde(rename = "@max", skip_serializing_if = "Option::is_none")]
+    max: Option<String>,
     #[serde(rename = "@start", skip_serializing_if = "Option::is_none")]
     start: Option<String>,
 }
@@ -202,42 +214,20 @@ struct Unknown {
     dependencies: String,
 }
 
-/// Units used by the tables, with their SI base-unit exponents (the FMI 2.0 description
-/// declares the same; tests/model_description_fmi3.rs compares the two).
-const UNITS: [(&str, [i32; 4]); 13] = [
-    ("m", [0, 1, 0, 0]),
-    ("rad", [0, 0, 0, 1]),
-    ("m/s", [0, 1, -1, 0]),
-    ("rad/s", [0, 0, -1, 1]),
-    ("N", [1, 1, -2, 0]),
-    ("N.m", [1, 2, -2, 0]),
-    ("J", [1, 2, -2, 0]),
-    ("N/m", [1, 0, -2, 0]),
-    ("N.s/m", [1, 0, -1, 0]),
-    ("N.m/rad", [1, 2, -2, -1]),
-    ("N.m.s/rad", [1, 2, -1, -1]),
-    ("s/m", [0, -1, 1, 0]),
-    ("s", [0, 0, 1, 0]),
-];
-
 /// The knowns an output of `t` depends on, as value references in increasing order: at
 /// communication points (`initial == false`, ModelStructure/Output) the node inputs its
 /// `Deps` names; in Initialization Mode (`initial == true`, ModelStructure/InitialUnknown)
 /// also every parameter, for an output that depends on anything. None when `vr` is not an
 /// output of the table.
 pub fn dependencies(t: &Table, vr: u32, initial: bool) -> Option<Vec<u32>> {
-    let v = t.get(vr).filter(|v| v.causality == Causality::Output)?;
-    let mut deps: Vec<u32> = t
-        .vars
+    // the FMI 2.0 ModelStructure's rule (`Table::dependencies`, 1-based indices), as VRs
+    let i = t.vars.iter().position(|v| v.vr == vr)?;
+    let (outputs, init) = t.dependencies(i)?;
+    let ix = if initial { init } else { outputs };
+    let mut deps: Vec<u32> = ix
         .iter()
-        .filter(|k| match (v.deps, k.causality, k.field) {
-            (Deps::None, _, _) => false,
-            (_, Causality::Parameter, _) => initial,
-            (Deps::All, Causality::Input, _) => true,
-            (Deps::Pose, Causality::Input, Field::Input { idx, .. }) => idx < 7,
-            _ => false,
-        })
-        .map(|k| k.vr)
+        .filter_map(|&k| t.vars.get(k - 1))
+        .map(|v| v.vr)
         .collect();
     deps.sort_unstable();
     Some(deps)
@@ -293,10 +283,13 @@ fn build(t: &Table) -> ModelDescription {
         causality: "independent",
         variability: "continuous",
         unit: Some("s"),
+        min: None,
+        max: None,
         start: None,
     });
     let vars = std::iter::once(time)
         .chain(t.vars.iter().map(|v| {
+            let (min, max) = v.range_text();
             let var = |start: Option<String>, unit: Option<&'static str>| Var {
                 name: v.name.clone(),
                 vr: v.vr,
@@ -304,6 +297,8 @@ fn build(t: &Table) -> ModelDescription {
                 causality: causality(v.causality),
                 variability: variability(v.variability),
                 unit,
+                min: min.clone(),
+                max: max.clone(),
                 start,
             };
             match v.start {
@@ -338,6 +333,10 @@ fn build(t: &Table) -> ModelDescription {
         model_name: spec.model_identifier,
         token: t.guid.clone(),
         description: spec.description,
+        author: env!("CARGO_PKG_AUTHORS"),
+        version: env!("CARGO_PKG_VERSION"),
+        copyright: crate::model_description::COPYRIGHT,
+        license: crate::model_description::LICENSE,
         generation_tool: format!("connector_fmu {}", env!("CARGO_PKG_VERSION")),
         naming: "structured",
         co_simulation: CoSimulation {

@@ -1,7 +1,8 @@
 //! Golden-file test of the FMI 3.0 model descriptions: the committed
 //! `modelDescription/fmi3/<Variant>.xml` equal what the generator writes from the variable
 //! tables, and each describes the same model as the committed FMI 2.0 description: the same
-//! variables (name, value reference, causality, variability, start, unit, description; Real →
+//! variables (name, value reference, causality, variability, start, unit, min, max, description;
+//! the model's author, version, copyright and license; Real →
 //! Float64, Integer → Int32, Boolean → Boolean), the GUID as instantiationToken, the same unit
 //! definitions and the same model structure (FMI 2.0 indices translated to value references).
 //! After changing a table: `cargo run --bin gen_model_description` and commit the diff.
@@ -78,7 +79,9 @@ fn fmi3_describes_the_same_model_as_fmi2() {
         let (r2, r3) = (root(&e2), root(&e3));
         assert_eq!(r3["fmiVersion"], "3.0");
         assert_eq!(r3["instantiationToken"], r2["guid"], "{id}");
-        assert_eq!(r3["modelName"], r2["modelName"]);
+        for key in ["modelName", "author", "version", "copyright", "license"] {
+            assert_eq!(r3.get(key), r2.get(key), "{id} {key}");
+        }
 
         // variables: FMI 2.0 ScalarVariable + type child, against the FMI 3.0 typed element
         let mut vars2 = Vec::new();
@@ -114,7 +117,7 @@ fn fmi3_describes_the_same_model_as_fmi2() {
             ] {
                 assert_eq!(a3.get(key), a2.get(key), "{id} {} {key}", a2["name"]);
             }
-            for key in ["start", "unit"] {
+            for key in ["start", "unit", "min", "max"] {
                 assert_eq!(a3.get(key), t2.get(key), "{id} {} {key}", a2["name"]);
             }
             assert_ne!(a3["valueReference"], TIME_VR.to_string());
