@@ -178,6 +178,10 @@ class Connector3(master.Connector):
             {"Float64": s.setFloat64, "Int32": s.setInt32, "Boolean": s.setBoolean}[v.type](
                 [v.valueReference], [val])
 
+    def set(self, values):
+        """What the scenes set between steps (driver.Connector.set), through FMI 3.0 setters."""
+        self._set_by_type(self.s, values)
+
     def set_inputs(self):
         self.s.fmi3SetFloat64(self.c, self.vin, self.nin, self.xin, self.nin)
         self.calls += 1
