@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Make the minimal macOS link SDK for the release build: <out>/usr/lib/libSystem.tbd (+ libc.tbd,
-libm.tbd as symlinks to it), derived from the libSystem.tbd in the pinned `ziglang` wheel.
+libm.tbd, libiconv.tbd as symlinks to it), derived from the libSystem.tbd in the pinned `ziglang` wheel.
 
 Two edits make it usable by ld64.lld for both macOS architectures:
 - the `arm64e.x1-*` targets are dropped (ld64.lld does not know that architecture);
@@ -43,7 +43,9 @@ def main() -> None:
     target = lib / "libSystem.tbd"
     if not target.is_file() or target.read_text() != fixed:
         target.write_text(fixed)
-    for alias in ("libc.tbd", "libm.tbd"):
+    # the libc crate names iconv for Apple targets; nothing here uses it, so the alias only
+    # satisfies -liconv (a use would fail to link: libSystem does not export iconv)
+    for alias in ("libc.tbd", "libm.tbd", "libiconv.tbd"):
         link = lib / alias
         if not link.is_symlink():
             link.unlink(missing_ok=True)
