@@ -2,7 +2,8 @@
 """Checks of the release FMUs in dist/release/ (scripts/release --check).
 
 For every variant's FMU, on the binaries it actually ships:
-- every binary exports exactly the 34 FMI 2.0 functions of fmi2Functions.h and nothing else;
+- every binary exports exactly the 34 FMI 2.0 functions of fmi2Functions.h and the 75 FMI 3.0
+  functions of fmi3Functions.h, and nothing else;
 - linux64: the highest GLIBC symbol version needed is <= 2.17;
 - win64: imports only Windows system DLLs; a scene run under wine (test driver
   tests/release/fmi2_driver.c built by MinGW) gives the outputs of the same driver on the linux64
@@ -11,6 +12,10 @@ For every variant's FMU, on the binaries it actually ships:
 - darwin64: a universal binary with exactly x86_64 and arm64, minimum macOS 10.12 / 11.0,
   install name @rpath/..., only system dylibs, and on arm64 a valid ad-hoc code signature (every
   page hash recomputed). It cannot be run here.
+- the FMI 3.0 release FMU (dist/release/fmi3/) carries the same binaries: x86_64-linux and
+  x86_64-windows byte-identical to linux64 and win64, x86_64-darwin and aarch64-darwin
+  byte-identical to the slices of the universal darwin64 binary (so every check above holds for
+  them too).
 Usage: release_check.py <work dir> [Variant ...]
 The work dir must hold fmi2_driver (native), fmi2_driver.exe and bcryptprimitives.dll (test shim).
 """
@@ -43,6 +48,30 @@ fmi2SetRealInputDerivatives fmi2GetRealOutputDerivatives fmi2DoStep fmi2CancelSt
 fmi2GetRealStatus fmi2GetIntegerStatus fmi2GetBooleanStatus fmi2GetStringStatus
 """.split())
 assert len(FMI2_FUNCTIONS) == 34
+# FMI 3.0 fmi3Functions.h: every function of the standard (Co-Simulation, Model Exchange and
+# Scheduled Execution; the ones this FMU does not support answer fmi3Error, they still exist).
+FMI3_FUNCTIONS = frozenset("""
+fmi3ActivateModelPartition fmi3CompletedIntegratorStep fmi3DeserializeFMUState fmi3DoStep
+fmi3EnterConfigurationMode fmi3EnterContinuousTimeMode fmi3EnterEventMode
+fmi3EnterInitializationMode fmi3EnterStepMode fmi3EvaluateDiscreteStates
+fmi3ExitConfigurationMode fmi3ExitInitializationMode fmi3FreeFMUState fmi3FreeInstance
+fmi3GetAdjointDerivative fmi3GetBinary fmi3GetBoolean fmi3GetClock
+fmi3GetContinuousStateDerivatives fmi3GetContinuousStates fmi3GetDirectionalDerivative
+fmi3GetEventIndicators fmi3GetFMUState fmi3GetFloat32 fmi3GetFloat64 fmi3GetInt16 fmi3GetInt32
+fmi3GetInt64 fmi3GetInt8 fmi3GetIntervalDecimal fmi3GetIntervalFraction
+fmi3GetNominalsOfContinuousStates fmi3GetNumberOfContinuousStates fmi3GetNumberOfEventIndicators
+fmi3GetNumberOfVariableDependencies fmi3GetOutputDerivatives fmi3GetShiftDecimal
+fmi3GetShiftFraction fmi3GetString fmi3GetUInt16 fmi3GetUInt32 fmi3GetUInt64 fmi3GetUInt8
+fmi3GetVariableDependencies fmi3GetVersion fmi3InstantiateCoSimulation
+fmi3InstantiateModelExchange fmi3InstantiateScheduledExecution fmi3Reset fmi3SerializeFMUState
+fmi3SerializedFMUStateSize fmi3SetBinary fmi3SetBoolean fmi3SetClock fmi3SetContinuousStates
+fmi3SetDebugLogging fmi3SetFMUState fmi3SetFloat32 fmi3SetFloat64 fmi3SetInt16 fmi3SetInt32
+fmi3SetInt64 fmi3SetInt8 fmi3SetIntervalDecimal fmi3SetIntervalFraction fmi3SetShiftDecimal
+fmi3SetShiftFraction fmi3SetString fmi3SetTime fmi3SetUInt16 fmi3SetUInt32 fmi3SetUInt64
+fmi3SetUInt8 fmi3Terminate fmi3UpdateDiscreteStates
+""".split())
+assert len(FMI3_FUNCTIONS) == 75
+FMI_FUNCTIONS = FMI2_FUNCTIONS | FMI3_FUNCTIONS
 
 MAX_GLIBC = (2, 17)
 # DLLs every Windows 10 or later has (std needs Windows 10: ProcessPrng, WaitOnAddress).
@@ -71,11 +100,11 @@ def run(cmd, **kw) -> str:
 
 
 def check_exports(label: str, names: set[str]) -> None:
-    extra, missing = sorted(names - FMI2_FUNCTIONS), sorted(FMI2_FUNCTIONS - names)
+    extra, missing = sorted(names - FMI_FUNCTIONS), sorted(FMI_FUNCTIONS - names)
     if extra or missing:
         fail(f"{label}: exports {len(names)} symbols; extra {extra[:10]}{'...' if len(extra) > 10 else ''}, missing {missing}")
     else:
-        ok(f"{label}: exports exactly the 34 FMI 2.0 functions")
+        ok(f"{label}: exports exactly the 34 FMI 2.0 and 75 FMI 3.0 functions")
 
 
 # ------------------------------------------------------------------ linux64
@@ -326,6 +355,31 @@ def wine() -> str:
 
 # ------------------------------------------------------------------ main
 
+def check_fmi3_twin(variant: str, bins: dict[str, Path]) -> None:
+    """The FMI 3.0 release FMU holds the FMI 2.0 release FMU's binaries (per architecture)."""
+    fmu = REPO / "dist" / "release" / "fmi3" / f"{variant}.fmu"
+    print(f"== {fmu.relative_to(REPO)}")
+    slices = {MACOS_ARCHS.get(c): sl for c, sl in macho_slices(bins["darwin64"].read_bytes())}
+    want = {
+        f"binaries/x86_64-linux/{variant}.so": bins["linux64"].read_bytes(),
+        f"binaries/x86_64-windows/{variant}.dll": bins["win64"].read_bytes(),
+        f"binaries/x86_64-darwin/{variant}.dylib": slices.get("x86_64"),
+        f"binaries/aarch64-darwin/{variant}.dylib": slices.get("arm64"),
+    }
+    with zipfile.ZipFile(fmu) as zf:
+        md = ET.fromstring(zf.read("modelDescription.xml"))
+        if md.get("fmiVersion") != "3.0":
+            fail(f"fmi3/{variant}: fmiVersion {md.get('fmiVersion')!r}")
+        present = set(zf.namelist())
+        for name, data in want.items():
+            if name not in present:
+                fail(f"fmi3/{variant}: {name} missing")
+            elif data is None or zf.read(name) != data:
+                fail(f"fmi3/{variant}: {name} differs from the FMI 2.0 release binary")
+            else:
+                ok(f"fmi3/{variant}: {name} is the checked FMI 2.0 release binary")
+
+
 def main() -> None:
     work = Path(sys.argv[1]).resolve()
     variants = sys.argv[2:] or VARIANTS
@@ -346,6 +400,7 @@ def main() -> None:
         check_windows_static(bins["win64"])
         check_macos(bins["darwin64"])
         compare_under_wine(v, md, bins["linux64"], bins["win64"], work)
+        check_fmi3_twin(v, bins)
     if failures:
         print(f"release check: {len(failures)} failure(s)")
         sys.exit(1)

@@ -1,9 +1,13 @@
 #!/usr/bin/env python3
-"""Package the release FMUs: dist/release/<Variant>.fmu with binaries for linux64 (glibc 2.17),
-win64 and darwin64 (universal x86_64 + arm64), all from one library per platform that
-scripts/release built (already stripped at link time).
+"""Package the release FMUs: dist/release/<Variant>.fmu (FMI 2.0) with binaries for linux64
+(glibc 2.17), win64 and darwin64 (universal x86_64 + arm64), and dist/release/fmi3/<Variant>.fmu
+(FMI 3.0) with x86_64-linux, x86_64-windows, x86_64-darwin and aarch64-darwin (the macOS slices
+the universal binary is made of), all from one library per platform that scripts/release built
+(already stripped at link time; it exports both the fmi2* and the fmi3* functions). The model
+descriptions carry the commit time as generationDateAndTime, as in dist/.
 
-Usage: release_package.py <linux .so> <windows .dll> <macOS .dylib> [Variant ...]
+Usage: release_package.py <linux .so> <windows .dll> <macOS universal .dylib>
+                          <macOS x86_64 .dylib> <macOS arm64 .dylib> [Variant ...]
 """
 import sys
 import xml.etree.ElementTree as ET
@@ -12,37 +16,47 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "scripts"))
-from package import VARIANTS, add, documentation  # noqa: E402
+from package import VARIANTS, add, documentation, generation_date, with_generation_date  # noqa: E402
+from package_fmi3 import documentation as documentation_fmi3  # noqa: E402
 
-PLATFORMS = (("linux64", "so"), ("win64", "dll"), ("darwin64", "dylib"))
+# (directory, extension, index of the library on the command line)
+FMI2_PLATFORMS = (("linux64", "so", 0), ("win64", "dll", 1), ("darwin64", "dylib", 2))
+FMI3_PLATFORMS = (("x86_64-linux", "so", 0), ("x86_64-windows", "dll", 1),
+                  ("x86_64-darwin", "dylib", 3), ("aarch64-darwin", "dylib", 4))
+
+
+def package(xml_path: Path, fmu: Path, platforms, blobs, doc) -> None:
+    xml = with_generation_date(xml_path.read_bytes(), generation_date())
+    root = ET.fromstring(xml)
+    identifier = root.find("CoSimulation").get("modelIdentifier")
+    if identifier != fmu.stem:
+        sys.exit(f"error: {xml_path}: modelIdentifier {identifier!r}")
+    tmp = fmu.with_suffix(".fmu.tmp")
+    with zipfile.ZipFile(tmp, "w") as zf:
+        add(zf, "modelDescription.xml", xml)
+        for platform, ext, i in platforms:
+            add(zf, f"binaries/{platform}/{identifier}.{ext}", blobs[i], 0o755)
+        add(zf, "documentation/index.html", doc(root).encode("utf-8"))
+    tmp.replace(fmu)
+    print(f"{str(fmu.relative_to(REPO)):<44} {fmu.stat().st_size:>12,d} bytes")
 
 
 def main() -> None:
-    if len(sys.argv) < 4:
+    if len(sys.argv) < 6:
         sys.exit(__doc__)
-    libraries = [Path(p) for p in sys.argv[1:4]]
-    variants = sys.argv[4:] or VARIANTS
+    libraries = [Path(p) for p in sys.argv[1:6]]
+    variants = sys.argv[6:] or VARIANTS
     for lib in libraries:
         if not lib.is_file():
             sys.exit(f"error: {lib} is missing; run scripts/release")
     blobs = [lib.read_bytes() for lib in libraries]
     out_dir = REPO / "dist" / "release"
-    out_dir.mkdir(parents=True, exist_ok=True)
+    (out_dir / "fmi3").mkdir(parents=True, exist_ok=True)
     for v in variants:
-        xml = (REPO / "modelDescription" / f"{v}.xml").read_bytes()
-        root = ET.fromstring(xml)
-        identifier = root.find("CoSimulation").get("modelIdentifier")
-        if identifier != v:
-            sys.exit(f"error: {v}.xml: modelIdentifier {identifier!r}")
-        fmu = out_dir / f"{v}.fmu"
-        tmp = fmu.with_suffix(".fmu.tmp")
-        with zipfile.ZipFile(tmp, "w") as zf:
-            add(zf, "modelDescription.xml", xml)
-            for (platform, ext), blob in zip(PLATFORMS, blobs):
-                add(zf, f"binaries/{platform}/{identifier}.{ext}", blob, 0o755)
-            add(zf, "documentation/index.html", documentation(root).encode("utf-8"))
-        tmp.replace(fmu)
-        print(f"{str(fmu.relative_to(REPO)):<44} {fmu.stat().st_size:>12,d} bytes")
+        package(REPO / "modelDescription" / f"{v}.xml", out_dir / f"{v}.fmu", FMI2_PLATFORMS, blobs,
+                documentation)
+        package(REPO / "modelDescription" / "fmi3" / f"{v}.xml", out_dir / "fmi3" / f"{v}.fmu",
+                FMI3_PLATFORMS, blobs, documentation_fmi3)
 
 
 if __name__ == "__main__":
