@@ -231,6 +231,16 @@ def _fmu_from(ref):
         yield unzipdir
 
 
+def _remote_run_task():
+    """run_task behind a function that cloudpickle sends by value (it is local to this one): the
+    scheduler unpickles the task graph, and it has no copy of this package; the worker imports
+    the package (from the plugin's zip) only when it runs the task."""
+    def run(spec, ref, reference=None):
+        import importlib
+        return importlib.import_module("cosim.sweep").run_task(spec, ref, reference)
+    return run
+
+
 def _where():
     try:
         from distributed import get_worker
@@ -557,6 +567,7 @@ def _execute_dask(todo, scheduler, refs, done, finished, workers):
         client.register_plugin(plugin, name=f"connector-sweep-{digest}")
         shipped = {r["variant"]: {k: r[k] for k in ("variant", "sha256")} for r in refs.values()}
         futures, by_key = {}, {t["spec"]["key"]: t for t in todo}
+        entry = _remote_run_task()
         # longest first (estimated cost), references before everything: shortest makespan
         order = sorted(todo, key=lambda t: (t["needs"] is not None, -t["cost"]))
         n = len(order)
@@ -566,7 +577,7 @@ def _execute_dask(todo, scheduler, refs, done, finished, workers):
                 ref_arg = futures.get(t["needs"]) or done.get(t["needs"])
             key = f"{t['spec']['kind']}-{t['spec']['key']}"
             futures[t["spec"]["key"]] = client.submit(
-                run_task, t["spec"], shipped[t["variant"]], ref_arg, key=key, pure=False,
+                entry, t["spec"], shipped[t["variant"]], ref_arg, key=key, pure=False,
                 priority=(n - i) + (10 * n if t["spec"]["kind"] == "reference" else 0))
         for fut in as_completed(list(futures.values())):
             k = fut.key.split("-", 1)[1]
