@@ -394,6 +394,10 @@ class RowsFile:
             rows = list(csv.reader(io.StringIO(raw.decode())))
             if rows:
                 self.header = rows[0]
+                missing = [c for c in self.inputs if c not in self.header]
+                if missing:
+                    raise SystemExit(f"error: {self.path} has no column for {', '.join(missing)} "
+                                     "(written by a sweep over other axes); use another --out")
                 for r in rows[1:]:
                     d = dict(zip(self.header, r))
                     self.done[d["key"]] = self._row_of(d)
