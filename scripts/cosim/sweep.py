@@ -572,8 +572,9 @@ def _execute_dask(todo, scheduler, refs, done, finished, workers):
         shipped = {r["variant"]: {k: r[k] for k in ("variant", "sha256")} for r in refs.values()}
         futures, by_key = {}, {t["spec"]["key"]: t for t in todo}
         entry = _remote_run_task()
-        # longest first (estimated cost), references before everything: shortest makespan
-        order = sorted(todo, key=lambda t: (t["needs"] is not None, -t["cost"]))
+        # longest first (estimated cost; a reference before everything): the runs that wait for
+        # a reference (belt, the longest) start as soon as it is done, short tasks fill the end
+        order = sorted(todo, key=lambda t: -t["cost"])
         n = len(order)
         for i, t in enumerate(order):
             ref_arg = None
