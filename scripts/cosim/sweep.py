@@ -572,6 +572,7 @@ def _execute_dask(todo, scheduler, refs, done, finished, workers):
         shipped = {r["variant"]: {k: r[k] for k in ("variant", "sha256")} for r in refs.values()}
         futures, by_key = {}, {t["spec"]["key"]: t for t in todo}
         entry = _remote_run_task()
+        token = os.urandom(4).hex()
         # longest first (estimated cost; a reference before everything): the runs that wait for
         # a reference (belt, the longest) start as soon as it is done, short tasks fill the end
         order = sorted(todo, key=lambda t: -t["cost"])
@@ -580,12 +581,13 @@ def _execute_dask(todo, scheduler, refs, done, finished, workers):
             ref_arg = None
             if t["needs"]:
                 ref_arg = futures.get(t["needs"]) or done.get(t["needs"])
-            key = f"{t['spec']['kind']}-{t['spec']['key']}"
+            key = f"{t['spec']['kind']}-{t['spec']['key']}-{token}"    # unique to this sweep
             futures[t["spec"]["key"]] = client.submit(
                 entry, t["spec"], shipped[t["variant"]], ref_arg, key=key, pure=False,
                 priority=(n - i) + (10 * n if t["spec"]["kind"] == "reference" else 0))
+        key_of = {f.key: k for k, f in futures.items()}
         for fut in as_completed(list(futures.values())):
-            k = fut.key.split("-", 1)[1]
+            k = key_of[fut.key]
             try:
                 row = fut.result()
             except Exception as e:   # noqa: BLE001 - e.g. KilledWorker: the task killed workers

@@ -177,7 +177,7 @@ def test_killed_worker_costs_only_its_running_tasks(cluster, tasks, serial, tmp_
                     time.sleep(0.02)
                 cluster.procs["w1"].send_signal(signal.SIGKILL)
                 cluster.procs["w1"].wait(timeout=10)
-                state["killed"] = (victim, [k.split("-", 1)[1] for k in running])
+                state["killed"] = (victim, [k.split("-")[1] for k in running])
             cluster.add_worker("w3")
         state["seen"].append(row["key"])
         return ""
