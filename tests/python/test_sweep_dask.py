@@ -24,6 +24,7 @@ import signal
 import socket
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -160,30 +161,35 @@ def test_cluster_rows_identical_to_serial(cluster, tasks, serial, tmp_path):
 
 
 def test_killed_worker_costs_only_its_running_tasks(cluster, tasks, serial, tmp_path):
-    """SIGKILL one worker while it runs a task; a third worker joins mid-sweep. Every row
-    arrives, identical to the serial one; the killed worker's running tasks were rerun."""
+    """SIGKILL one worker while it runs a task, once the sweep has written a row; a third worker
+    joins mid-sweep. Every row arrives, identical to the serial one; the killed worker's running
+    tasks were rerun elsewhere."""
     out = tmp_path / "rows.csv"
     state = {}
 
-    def log(task, row):
-        if "killed" not in state and len(state.setdefault("seen", [])) >= 2:
-            with distributed.Client(cluster.address) as client:
-                for _ in range(200):       # wait until w1 is running something, then kill it
-                    info = client.scheduler_info()["workers"]
-                    victim = next(a for a, w in info.items() if w["name"] == "w1")
+    def killer():     # watches the scheduler from another thread while the sweep runs
+        with distributed.Client(cluster.address) as client:
+            info = client.scheduler_info()["workers"]
+            victim = next(a for a, w in info.items() if w["name"] == "w1")
+            deadline = time.monotonic() + 120
+            while time.monotonic() < deadline:
+                if out.exists() and out.read_bytes().count(b"\n") >= 2:
                     running = client.processing(workers=[victim]).get(victim, [])
                     if running:
                         break
-                    time.sleep(0.02)
-                cluster.procs["w1"].send_signal(signal.SIGKILL)
-                cluster.procs["w1"].wait(timeout=10)
-                state["killed"] = (victim, [k.split("-")[1] for k in running])
-            cluster.add_worker("w3")
-        state["seen"].append(row["key"])
-        return ""
+                time.sleep(0.01)
+            cluster.procs["w1"].send_signal(signal.SIGKILL)
+            cluster.procs["w1"].wait(timeout=10)
+            state["killed"] = (victim, [k.split("-")[1] for k in running])
+        cluster.add_worker("w3")
 
-    rows = sweep.execute(tasks, cluster.address, out=out, input_columns=["stop.stiffness"],
-                         inputs_of=lambda s: s["fmu"], progress=False, log=log)
+    watcher = threading.Thread(target=killer)
+    watcher.start()
+    try:
+        rows = sweep.execute(tasks, cluster.address, out=out, input_columns=["stop.stiffness"],
+                             inputs_of=lambda s: s["fmu"], progress=False)
+    finally:
+        watcher.join()
     victim, running = state["killed"]
     assert running, "w1 was running no task when killed"
     written = sweep.RowsFile(out, ["stop.stiffness"]).done
@@ -191,8 +197,10 @@ def test_killed_worker_costs_only_its_running_tasks(cluster, tasks, serial, tmp_
     assert len(out.read_text().splitlines()) == 25                 # header + one line per run
     for key, row in serial.items():
         same_figures(written[key], row)
-    for key in running:
-        assert written[key]["worker"] != victim, key               # ran again elsewhere
+    # what w1 had when it died ran again elsewhere (a task finishing in the instant between the
+    # poll and the kill may keep its w1 row: at least one must have been rerun)
+    assert any(written[key]["worker"] != victim for key in running), running
+    assert all(written[key]["worker"] != "" for key in written)
 
 
 def test_bad_parameter_is_an_error_row(cluster, tmp_path):
