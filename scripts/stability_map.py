@@ -8,7 +8,10 @@ refined by bisection to 1e-4 relative. Set beside the closed forms: zero-order h
 ωH²/6 + ζ ωH < 1 (ωH < √6 ≈ 2.449 at ζ = 0); linear-implicit unconditionally stable;
 extrapolation from its closed-form amplification matrix (scenes.amplification).
 
-    .venv/bin/python scripts/stability_map.py [--out out]
+    .venv/bin/python scripts/stability_map.py [--out out] [--serial | --scheduler ADDR] [--workers N]
+
+One task per (method, ζ) through the sweep engine (scripts/cosim/sweep.py, docs/sweeps.md): by
+default on a local Dask cluster, --serial in this process.
 
 Writes out/stability_map.csv (largest stable ωH per method and ζ, measured and closed form;
 and the spectral radius against ωH at ζ = 0) and out/stability_map.png.
@@ -28,9 +31,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from cosim import sweep as engine  # noqa: E402
 from cosim.master import LABELS, METHODS  # noqa: E402
-from cosim.scenes import (OneStepMap, amplification, bound_closed_form, largest_stable,  # noqa: E402
-                          spectral_radius)
+from cosim.scenes import Oscillator, amplification, bound_closed_form, spectral_radius  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
 ZETAS = [0.0, 0.01, 0.02, 0.05, 0.1, 0.2, 0.3, 0.5, 0.7, 1.0, 1.5, 2.0]
@@ -41,22 +44,39 @@ STYLE = {"zoh": ("C3", "o"), "extrapolation": ("C1", "s"), "linear_implicit": ("
          "rollback": ("C2", "^")}
 
 
-def measure(log=print):
+def tasks():
+    """One task per method and ζ: the largest stable ωH (log grid on [H_LO, H_HI] refined by
+    bisection, stable = spectral radius <= 1 + TOL), at ζ = 0 also the spectral radius at RHO_H
+    (with the same probe)."""
+    variant = Oscillator.variant
+    sha = engine.fmu_ref(variant)["sha256"]
+    return [engine.make_task("stability", "oscillator", method, None, variant=variant, fmu_sha=sha,
+                             cost=2e4, zeta=zeta, h_lo=H_LO, h_hi=H_HI, tol=TOL,
+                             rho_at=[float(h) for h in RHO_H] if zeta == 0.0 else [])
+            for method in METHODS for zeta in ZETAS]
+
+
+def log_line(task, r):
+    s, fig = task["spec"], r.get("figures") or {}
+    if r["status"] != "ok":
+        return f"  {s['method']:16s} zeta={s['zeta']:<5g} FAILED {r['message']}"
+    return (f"  {s['method']:16s} zeta={s['zeta']:<5g} largest stable wH = "
+            f"{fig['largest_stable_omegaH']:.6g}  (closed form {bound_closed_form(s['method'], s['zeta']):.6g})")
+
+
+def limits_and_rhos(tasks_, results):
     limits, rhos = [], []
-    for method in METHODS:
-        for zeta in ZETAS:
-            probe = OneStepMap(method, zeta)
-            try:
-                hmax = largest_stable(lambda h: probe.rho(h) <= 1 + TOL, H_LO, H_HI)
-                if zeta == 0.0:
-                    rhos += [{"method": method, "omegaH": h, "rho": probe.rho(h),
-                              "rho_closed_form": closed_rho(method, h)} for h in RHO_H]
-            finally:
-                probe.close()
-            cf = bound_closed_form(method, zeta)
-            limits.append({"method": method, "zeta": zeta, "largest_stable_omegaH": hmax,
-                           "closed_form": cf, "evaluations": probe.evaluations})
-            log(f"  {method:16s} zeta={zeta:<5g} largest stable wH = {hmax:.6g}  (closed form {cf:.6g})")
+    for t, r in zip(tasks_, results):
+        s = t["spec"]
+        if r["status"] != "ok":
+            raise SystemExit(f"error: stability map, {s['method']} at zeta = {s['zeta']}: {r['message']}")
+        method, zeta, fig = s["method"], s["zeta"], r["figures"]
+        rhos += [{"method": method, "omegaH": h, "rho": rho, "rho_closed_form": closed_rho(method, h)}
+                 for h, rho in zip(RHO_H, fig.get("rho", []))]
+        limits.append({"method": method, "zeta": zeta,
+                       "largest_stable_omegaH": fig["largest_stable_omegaH"],
+                       "closed_form": bound_closed_form(method, zeta),
+                       "evaluations": fig["evaluations"]})
     return limits, rhos
 
 
@@ -145,17 +165,24 @@ def plot(limits, rhos, path):
     plt.close(fig)
 
 
+def finish(tasks_, results, out):
+    limits, rhos = limits_and_rhos(tasks_, results)
+    write_csv(limits, rhos, out / "stability_map.csv")
+    plot(limits, rhos, out / "stability_map.png")
+    print(f"  wrote {out / 'stability_map.csv'} and .png")
+
+
 def main(argv=None):
+    from work_precision import add_engine_args, where
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--out", default=str(REPO / "out"))
+    add_engine_args(ap)
     args = ap.parse_args(argv)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     print("==> stability map (§7)")
-    limits, rhos = measure()
-    write_csv(limits, rhos, out / "stability_map.csv")
-    plot(limits, rhos, out / "stability_map.png")
-    print(f"  wrote {out / 'stability_map.csv'} and .png")
+    ts = tasks()
+    finish(ts, engine.execute(ts, where(args), log=log_line, workers=args.workers), out)
 
 
 if __name__ == "__main__":

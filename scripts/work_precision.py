@@ -5,10 +5,14 @@ and the CPU time of the stepping loop (time.process_time; FMU set-up and monitor
 and write out/wp_<scene>.csv (every run) and out/wp_<scene>.png (error against CPU time, one
 curve per method, points labelled by H).
 
-    .venv/bin/python scripts/work_precision.py [--out out] [--quick] [scene ...]
+    .venv/bin/python scripts/work_precision.py [--out out] [--quick] [--serial | --scheduler ADDR]
+                                                [--workers N] [scene ...]
 
 Scenes: belt, puck0, puck1, bounce, bushing_freq, bushing_energy (default: all).
 --quick drops the smallest steps (for a smoke run).
+The runs go through the sweep engine (scripts/cosim/sweep.py, docs/sweeps.md): by default on a
+local Dask cluster (one worker process per core), --serial in this process one after another,
+--scheduler tcp://HOST:PORT on a running cluster. The figures do not depend on where a run goes.
 """
 from __future__ import annotations
 
@@ -25,7 +29,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from cosim.master import LABELS, METHODS, simulate  # noqa: E402
+from cosim import sweep as engine  # noqa: E402
+from cosim.master import LABELS, METHODS  # noqa: E402
 from cosim.scenes import SCENES  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
@@ -40,23 +45,52 @@ def fmt_h(H):
     return f"{m}e{int(e)}"
 
 
-def sweep(scene, quick=False, log=print):
+def tasks(scene, quick=False):
+    """The runs of one scene's chart (method outer, H inner), preceded by the scene's fine
+    reference run when it has one (belt: error2); the runs wait for it."""
     Hs = scene.sweep[:-2] if quick else scene.sweep
-    rows = []
+    sha = engine.fmu_ref(scene.variant)["sha256"]
+    out, needs = [], None
+    if getattr(scene, "fine", None):
+        method, H = scene.fine
+        out.append(engine.make_task("reference", scene.name, method, H, variant=scene.variant,
+                                    fmu_sha=sha, cost=engine.run_cost(scene, method, H)))
+        needs = out[0]["spec"]["key"]
     for method in METHODS:
         for H in Hs:
-            res = simulate(scene, method, H, record=scene.record)
-            fig = scene.measure(res)
-            row = {"scene": scene.name, "method": method, "H": H, "steps": res.steps,
-                   "cpu_s": res.cpu, "us_per_step": 1e6 * res.cpu / max(res.steps, 1),
-                   "fmi_calls": res.calls, "rollback_passes": res.iterations,
-                   "failed": res.failed or "", "error": fig.get("error", np.nan),
-                   "error2": fig.get("error2", np.nan)}
-            row.update({k: v for k, v in fig.items() if k not in row})
-            rows.append(row)
-            err = row["error"]
-            log(f"  {scene.name:15s} {method:16s} H={H:<8g} cpu={res.cpu:7.3f}s "
-                f"error={err:.3e}" + (f"  FAILED {res.failed}" if res.failed else ""))
+            out.append(engine.make_task("run", scene.name, method, H, variant=scene.variant,
+                                        fmu_sha=sha, needs=needs,
+                                        cost=engine.run_cost(scene, method, H)))
+    return out
+
+
+def log_line(task, r):
+    """The progress line of one finished task."""
+    s, fig = task["spec"], r.get("figures") or {}
+    if s["kind"] == "reference":
+        return (f"  {s['scene']:15s} fine reference ({s['method']}, H = {s['H']:g}): " + ", ".join(
+            f"{k} = {v:.6g}" for k, v in fig.items() if isinstance(v, float) and math.isfinite(v)))
+    err = fig.get("error", np.nan)
+    return (f"  {s['scene']:15s} {s['method']:16s} H={s['H']:<8g} cpu={r.get('cpu_s') or 0:7.3f}s "
+            f"error={err:.3e}" + (f"  FAILED {r['message']}" if r["status"] != "ok" else ""))
+
+
+def chart_rows(scene, tasks, results):
+    """The chart's rows (the columns of wp_<scene>.csv) from the engine's rows."""
+    rows = []
+    for t, r in zip(tasks, results):
+        s = t["spec"]
+        if s["kind"] != "run":
+            continue
+        fig = r.get("figures") or {}
+        steps = r.get("steps") or 0
+        row = {"scene": scene.name, "method": s["method"], "H": s["H"], "steps": steps,
+               "cpu_s": r.get("cpu_s", np.nan), "us_per_step": 1e6 * (r.get("cpu_s") or 0) / max(steps, 1),
+               "fmi_calls": r.get("fmi_calls"), "rollback_passes": r.get("rollback_passes"),
+               "failed": r["message"] if r["status"] != "ok" else "",
+               "error": fig.get("error", np.nan), "error2": fig.get("error2", np.nan)}
+        row.update({k: v for k, v in fig.items() if k not in row})
+        rows.append(row)
     return rows
 
 
@@ -108,25 +142,44 @@ def plot(scene, rows, path):
     plt.close(fig)
 
 
+def add_engine_args(ap):
+    ap.add_argument("--serial", action="store_true",
+                    help="run in this process, one after another (default: a local Dask cluster)")
+    ap.add_argument("--scheduler", default="local", help="tcp://HOST:PORT of a running Dask scheduler")
+    ap.add_argument("--workers", type=int, default=None,
+                    help="worker processes of the local cluster (default: one per core)")
+
+
+def where(args):
+    return None if args.serial else args.scheduler
+
+
+def finish(name, tasks_, results, out):
+    scene = SCENES[name]
+    rows = chart_rows(scene, tasks_, results)
+    write_csv(rows, out / f"wp_{name}.csv")
+    plot(scene, rows, out / f"wp_{name}.png")
+    print(f"  wrote {out / f'wp_{name}.csv'} and .png")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("scenes", nargs="*", default=list(SCENES))
     ap.add_argument("--out", default=str(REPO / "out"))
     ap.add_argument("--quick", action="store_true")
+    add_engine_args(ap)
     args = ap.parse_args(argv)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
+    per_scene = {name: tasks(SCENES[name], args.quick) for name in args.scenes}
     for name in args.scenes:
-        scene = SCENES[name]
-        print(f"==> {name}: {scene.title}")
-        fine = scene.prepare()
-        if fine:
-            print(f"  fine reference {scene.fine}: " + ", ".join(
-                f"{k} = {v:.6g}" for k, v in fine.items() if isinstance(v, float) and math.isfinite(v)))
-        rows = sweep(scene, args.quick)
-        write_csv(rows, out / f"wp_{name}.csv")
-        plot(scene, rows, out / f"wp_{name}.png")
-        print(f"  wrote {out / f'wp_{name}.csv'} and .png")
+        print(f"==> {name}: {SCENES[name].title}")
+    every = [t for ts in per_scene.values() for t in ts]
+    results = engine.execute(every, where(args), log=log_line, workers=args.workers)
+    i = 0
+    for name, ts in per_scene.items():
+        finish(name, ts, results[i:i + len(ts)], out)
+        i += len(ts)
 
 
 if __name__ == "__main__":
