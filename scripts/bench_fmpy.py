@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Benchmark through fmpy (SPEC §8): cost per round set + doStep + get of the Bushing (every
+"""Benchmark through fmpy (docs/benchmarks.md): cost per round set + doStep + get of the Bushing (every
 behaviour on) and Planar (friction on) FMUs against the same calls on the empty FMU
 (dist/bench/Empty.fmu: set/get store values, doStep does nothing), measured side by side.
 

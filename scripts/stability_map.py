@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Stability map for SCENES §7: a master-owned mass on the connector's spring k and damper c
+"""Stability map for docs/cosim.md, scene 7: a master-owned mass on the connector's spring k and damper c
 (RadialThrust, axial component; ω = sqrt(k/m), ζ = c/(2 m ω)). For each coupling method and
 damping ratio ζ, the one-macro-step map is measured through the FMU (scenes.OneStepMap) and the
 largest stable ωH (spectral radius <= 1 + 1e-9) is found on a log grid of ωH in [1e-3, 1e3]

@@ -1,4 +1,4 @@
-"""Scenes of SCENES.md with their reference answers and error measures, for the master in
+"""Scenes of docs/cosim.md with their reference answers and error measures, for the master in
 master.py. Each scene says which FMU hosts it (the smallest variant that can), how the body is
 modelled, the reference answer (closed form or an independent computation) and, next to it, how a
 run is measured against it (`measure`, returning the figures and one scalar `error`).
@@ -80,7 +80,7 @@ class Belt(Scene):
     critically damped for the 1 kg mass (friction.stickDamping = 2 sqrt(k_s m)): without it,
     it rings at re-stick and breaks away early (README, finding 2).
 
-    Reference (Karnopp-type closed form, SCENES §1): stick 2Δ/v_b, slip (π + 2β)/ω, period, and
+    Reference (Karnopp-type closed form, docs/cosim.md, scene 1): stick 2Δ/v_b, slip (π + 2β)/ω, period, and
     x_max = x_k + sqrt(Δ² + (v_b/ω)²).
     Measured: after the first breakaway, period = mean interval between upward crossings of
     y = x_k (they fall in the stick phase); x_max = mean of the cycle maxima (3-point parabola);
@@ -97,7 +97,7 @@ class Belt(Scene):
     t_end = 3.5
     sweep = (1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5, 1e-5)
     tol = 1e-10
-    error_label = "against the closed form (SCENES §1): max(|ΔT|/T, |Δx_max|/x_max)"
+    error_label = "against the closed form (docs/cosim.md, scene 1): max(|ΔT|/T, |Δx_max|/x_max)"
 
     @property
     def params(self):
@@ -181,7 +181,7 @@ class Puck(Scene):
     m g from the SLIDE-PLANE penalty (so F_NC = m g and M_NR1 = (2/3) R m g as the seed's
     formulas give), μ = 0.3 without decay.
 
-    coupling 0 — reference (SCENES §4): t_v = v0/(μ g), t_ω = 3 R ω0/(4 μ g).
+    coupling 0 — reference (docs/cosim.md, scene 4): t_v = v0/(μ g), t_ω = 3 R ω0/(4 μ g).
     coupling 1 — reference (physics of a uniform-pressure disc, Farkas et al. 2003, computed
     here independently by quadrature over the disc, `disc_reference`): both stop at the same
     instant t_stop and v/(R ω) → 0.653. Beside it, what the FMU's law (the disc's direction on
@@ -349,7 +349,7 @@ def disc_reference(eps0, rate, v_frac, surface="disc"):
 class Bounce(Scene):
     """Mass m moving along e3a (RADIAL-THRUST axial position l = b.r[3], radial offset fixed at
     r0) at v0 towards the lower stop on l (stop.lower3), penalty stiffness k, damping c, no
-    other force. The clipped stop (SPEC §5: F = max(0, k p + c ṗ)) lets go when k p + c ṗ = 0,
+    other force. The clipped stop (docs/physics.md, Stops: F = max(0, k p + c ṗ)) lets go when k p + c ṗ = 0,
     before the penetration p returns to 0.
 
     Reference (closed form, linear damped oscillator, ω_d = ω_n sqrt(1 − ζ²), σ = ζ ω_n):
@@ -426,7 +426,7 @@ class BushingFreq(Scene):
     initial geometry). Released from a small combined deflection (1e-6 m along, 1e-5 rad about
     each axis), no damping. The master integrates the full 3-D rigid body (RK4).
 
-    Reference (linearised, SCENES §6): ω_i = sqrt(k_i/m), ω_(3+i) = sqrt(k_(3+i)/J_i).
+    Reference (linearised, docs/cosim.md, scene 6): ω_i = sqrt(k_i/m), ω_(3+i) = sqrt(k_(3+i)/J_i).
     Measured: each coordinate (r_i, rotation vector component i) oscillates at its own
     frequency to first order; ω = π·(crossings − 1)/(last − first zero crossing).
     error = max_i |Δω_i|/ω_i."""
@@ -613,7 +613,7 @@ def spectral_radius(A):
 
 
 def bound_closed_form(method, zeta):
-    """Largest stable ωH from SCENES §7 (zoh, rollback) or from `amplification` (others)."""
+    """Largest stable ωH from docs/cosim.md, scene 7 (zoh, rollback) or from `amplification` (others)."""
     if method == "zoh":
         return 0.0 if zeta == 0 else min(4 * zeta, 1 / zeta)
     if method == "rollback":                 # iteration contraction h²/6 + ζ h < 1
