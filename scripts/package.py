@@ -34,35 +34,47 @@ Abaqus numbering: 1&ndash;3 translations, 4&ndash;6 rotations (ur1 = component 4
 """
 
 
-def documentation(root: ET.Element) -> str:
-    """Short HTML page: model name, description, table of variables, conventions."""
-    units = {t.get("name"): t[0].get("unit", "") for t in root.iterfind("TypeDefinitions/SimpleType") if len(t)}
-    rows = []
-    for sv in root.iterfind("ModelVariables/ScalarVariable"):
-        typ = next((c for c in sv if c.tag in TYPES), None)
-        tname = typ.tag if typ is not None else ""
-        start = typ.get("start", "") if typ is not None else ""
-        unit = (typ.get("unit") or units.get(typ.get("declaredType"), "")) if typ is not None else ""
-        cells = [sv.get("name"), sv.get("valueReference"), sv.get("causality", "local"),
-                 sv.get("variability", "continuous"), tname, start, unit, sv.get("description", "")]
-        rows.append("<tr>" + "".join(f"<td>{html.escape(c or '')}</td>" for c in cells) + "</tr>")
+HEADINGS = ("name", "valueReference", "causality", "variability", "type", "start", "min", "max", "unit",
+            "description")
+
+
+def page(root: ET.Element, identity: str, interface: str, rows: list[list[str]]) -> str:
+    """The documentation page of either FMI version: model name and description, `identity`
+    (the FMI version and GUID or token line), `interface` (HTML, may be empty), the conventions
+    and the variable table (`rows`, one list of cells per variable in HEADINGS order)."""
     name = html.escape(root.get("modelName", ""))
-    head = "".join(f"<th>{h}</th>" for h in
-                   ("name", "valueReference", "causality", "variability", "type", "start", "unit", "description"))
+    head = "".join(f"<th>{h}</th>" for h in HEADINGS)
+    body = "\n".join("<tr>" + "".join(f"<td>{html.escape(c or '')}</td>" for c in r) + "</tr>" for r in rows)
     return f"""<!DOCTYPE html>
 <html><head><meta charset="utf-8"><title>{name}</title>
 <style>body{{font-family:sans-serif}} table{{border-collapse:collapse}} td,th{{border:1px solid #999;padding:2px 6px}}</style>
 </head><body>
 <h1>{name}</h1>
 <p>{html.escape(root.get("description", ""))}</p>
-<p>FMI {html.escape(root.get("fmiVersion", ""))} Co-Simulation FMU, GUID <code>{html.escape(root.get("guid", ""))}</code>.</p>
-{CONVENTIONS}<h2>Variables</h2>
+<p>{identity}</p>
+{interface}{CONVENTIONS}<h2>Variables</h2>
 <table>
 <tr>{head}</tr>
-{chr(10).join(rows)}
+{body}
 </table>
 </body></html>
 """
+
+
+def documentation(root: ET.Element) -> str:
+    """Short HTML page of an FMI 2.0 model description: model, conventions, variables."""
+    units = {t.get("name"): t[0].get("unit", "") for t in root.iterfind("TypeDefinitions/SimpleType") if len(t)}
+    rows = []
+    for sv in root.iterfind("ModelVariables/ScalarVariable"):
+        typ = next((c for c in sv if c.tag in TYPES), None)
+        get = typ.get if typ is not None else (lambda _k, d="": d)
+        unit = get("unit") or (units.get(get("declaredType"), "") if typ is not None else "")
+        rows.append([sv.get("name"), sv.get("valueReference"), sv.get("causality", "local"),
+                     sv.get("variability", "continuous"), typ.tag if typ is not None else "",
+                     get("start", ""), get("min", ""), get("max", ""), unit, sv.get("description", "")])
+    identity = (f"FMI {html.escape(root.get('fmiVersion', ''))} Co-Simulation FMU, GUID "
+                f"<code>{html.escape(root.get('guid', ''))}</code>.")
+    return page(root, identity, "", rows)
 
 
 def generation_date() -> str | None:

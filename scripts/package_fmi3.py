@@ -14,7 +14,7 @@ import zipfile
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from package import (CONVENTIONS, LIBRARY, REPO, VARIANTS, add, generation_date,  # noqa: E402
+from package import (LIBRARY, REPO, VARIANTS, add, generation_date, page,  # noqa: E402
                      stripped_library, with_generation_date)
 
 TYPES = ("Float32", "Float64", "Int8", "UInt8", "Int16", "UInt16", "Int32", "UInt32", "Int64",
@@ -30,33 +30,15 @@ derivatives answer <code>fmi3Error</code> with a log message naming the function
 
 
 def documentation(root: ET.Element) -> str:
-    """Short HTML page: model name, description, FMI 3.0 interface, conventions, variables."""
-    rows = []
-    for var in root.find("ModelVariables") or []:
-        if var.tag not in TYPES:
-            continue
-        cells = [var.get("name"), var.get("valueReference"), var.get("causality", "local"),
-                 var.get("variability", "continuous"), var.tag, var.get("start", ""),
-                 var.get("unit", ""), var.get("description", "")]
-        rows.append("<tr>" + "".join(f"<td>{html.escape(c or '')}</td>" for c in cells) + "</tr>")
-    name = html.escape(root.get("modelName", ""))
-    head = "".join(f"<th>{h}</th>" for h in
-                   ("name", "valueReference", "causality", "variability", "type", "start", "unit", "description"))
-    return f"""<!DOCTYPE html>
-<html><head><meta charset="utf-8"><title>{name}</title>
-<style>body{{font-family:sans-serif}} table{{border-collapse:collapse}} td,th{{border:1px solid #999;padding:2px 6px}}</style>
-</head><body>
-<h1>{name}</h1>
-<p>{html.escape(root.get("description", ""))}</p>
-<p>FMI {html.escape(root.get("fmiVersion", ""))} Co-Simulation FMU, instantiationToken
-<code>{html.escape(root.get("instantiationToken", ""))}</code>.</p>
-{NOT_PROVIDED}{CONVENTIONS}<h2>Variables</h2>
-<table>
-<tr>{head}</tr>
-{chr(10).join(rows)}
-</table>
-</body></html>
-"""
+    """Short HTML page of an FMI 3.0 model description: model, FMI 3.0 interface, conventions,
+    variables."""
+    rows = [[var.get("name"), var.get("valueReference"), var.get("causality", "local"),
+             var.get("variability", "continuous"), var.tag, var.get("start", ""), var.get("min", ""),
+             var.get("max", ""), var.get("unit", ""), var.get("description", "")]
+            for var in root.find("ModelVariables") or [] if var.tag in TYPES]
+    identity = (f"FMI {html.escape(root.get('fmiVersion', ''))} Co-Simulation FMU, instantiationToken "
+                f"<code>{html.escape(root.get('instantiationToken', ''))}</code>.")
+    return page(root, identity, NOT_PROVIDED, rows)
 
 
 def package(variant: str, out_dir: Path, binary: bytes, date: str | None) -> Path:
