@@ -378,7 +378,7 @@ pub extern "C" fn fmi2SerializeFMUstate(
         // SAFETY: serializedState holds size bytes; NULL with size > 0 is refused.
         let buf = unsafe { out_slice(serializedState.cast::<u8>(), size, "serializedState") };
         state
-            .and_then(|s| copy_serialized(inst, s, buf?))
+            .and_then(|s| copy_serialized(inst, s, buf?, "fmi2SerializedFMUstateSize"))
             .to_status(inst, F)
     })
 }

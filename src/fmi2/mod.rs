@@ -7,5 +7,5 @@
 pub(crate) mod boundary;
 pub mod exports;
 mod logger;
-mod policy;
+pub(crate) mod policy;
 pub mod types;

@@ -1,5 +1,5 @@
-//! The FMI 2.0 rules that need no pointer: how fmi2Boolean values map to `bool`, copying a
-//! serialized state into the importer's buffer, and the answers for status kinds and output
+//! The FMI rules that need no pointer: how fmi2Boolean (and fmi3Boolean) values map to `bool`,
+//! copying a serialized state into the importer's buffer (both versions use these), and the answers for status kinds and output
 //! derivatives this FMU does not provide. Safe code, called by `exports` after `boundary` has
 //! turned the pointers into slices.
 #![forbid(unsafe_code)]
@@ -9,38 +9,45 @@ use crate::error::{FmuError, FmuResult};
 use crate::instance::{Call, ModelInstance};
 use crate::model::snapshot::Snapshot;
 
-/// fmi2GetBoolean through a `bool` buffer: `value[]` is written only on success.
-pub(crate) fn get_booleans(
+/// fmi2GetBoolean / fmi3GetBoolean through a `bool` buffer: `value[]` is written (0 or 1) only
+/// on success.
+pub(crate) fn get_booleans<T: From<bool>>(
     inst: &mut ModelInstance,
     vrs: &[u32],
-    out: &mut [libc::c_int],
+    out: &mut [T],
 ) -> FmuResult<()> {
     let mut b = vec![false; vrs.len()];
     inst.get_boolean(vrs, &mut b)?;
     for (o, x) in out.iter_mut().zip(b) {
-        *o = libc::c_int::from(x);
+        *o = T::from(x);
     }
     Ok(())
 }
 
-/// fmi2SetBoolean: any non-zero fmi2Boolean is true (never a cast to `bool`).
-pub(crate) fn set_booleans(
+/// fmi2SetBoolean / fmi3SetBoolean: any non-zero value is true (never a cast to `bool`).
+pub(crate) fn set_booleans<T: Copy + Default + PartialEq>(
     inst: &mut ModelInstance,
     vrs: &[u32],
-    values: &[libc::c_int],
+    values: &[T],
 ) -> FmuResult<()> {
-    let b: Vec<bool> = values.iter().map(|&x| x != 0).collect();
+    let b: Vec<bool> = values.iter().map(|&x| x != T::default()).collect();
     inst.set_boolean(vrs, &b)
 }
 
-/// fmi2SerializeFMUstate into the caller's buffer (which must be large enough).
-pub(crate) fn copy_serialized(inst: &ModelInstance, s: &Snapshot, buf: &mut [u8]) -> FmuResult<()> {
+/// fmi2SerializeFMUstate / fmi3SerializeFMUState into the caller's buffer (which must be large
+/// enough; `size_fn` names the function that tells the size).
+pub(crate) fn copy_serialized(
+    inst: &ModelInstance,
+    s: &Snapshot,
+    buf: &mut [u8],
+    size_fn: &str,
+) -> FmuResult<()> {
     inst.own_state(s)?;
     let bytes = inst.serialize(s);
     let size = buf.len();
     let dst = buf.get_mut(..bytes.len()).ok_or_else(|| {
         FmuError::error(format!(
-            "size {size} is smaller than the serialized state ({} bytes, see fmi2SerializedFMUstateSize)",
+            "size {size} is smaller than the serialized state ({} bytes, see {size_fn})",
             bytes.len()
         ))
     })?;

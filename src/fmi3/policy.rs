@@ -56,35 +56,11 @@ fn not_in_table(vr: u32, ty: Option<&str>) -> FmuError {
     })
 }
 
-/// fmi3GetBoolean through a `bool` buffer: `values[]` is written (0 or 1) only on success.
-pub(crate) fn get_booleans(inst: &mut ModelInstance, vrs: &[u32], out: &mut [u8]) -> FmuResult<()> {
-    let mut b = vec![false; vrs.len()];
-    inst.get_boolean(vrs, &mut b)?;
-    for (o, x) in out.iter_mut().zip(b) {
-        *o = u8::from(x);
-    }
-    Ok(())
-}
-
-/// fmi3SetBoolean: any non-zero byte is true.
-pub(crate) fn set_booleans(inst: &mut ModelInstance, vrs: &[u32], values: &[u8]) -> FmuResult<()> {
-    let b: Vec<bool> = values.iter().map(|&x| x != 0).collect();
-    inst.set_boolean(vrs, &b)
-}
+pub(crate) use crate::fmi2::policy::{get_booleans, set_booleans};
 
 /// fmi3SerializeFMUState into the caller's buffer (which must be large enough).
 pub(crate) fn copy_serialized(inst: &ModelInstance, s: &Snapshot, buf: &mut [u8]) -> FmuResult<()> {
-    inst.own_state(s)?;
-    let bytes = inst.serialize(s);
-    let size = buf.len();
-    let dst = buf.get_mut(..bytes.len()).ok_or_else(|| {
-        FmuError::error(format!(
-            "size {size} is smaller than the serialized state ({} bytes, see fmi3SerializedFMUStateSize)",
-            bytes.len()
-        ))
-    })?;
-    dst.copy_from_slice(&bytes);
-    Ok(())
+    crate::fmi2::policy::copy_serialized(inst, s, buf, "fmi3SerializedFMUStateSize")
 }
 
 /// fmi3Get/Set of a type this FMU has no variables of (`ty`: Float32, Int8, …, String, Binary,
