@@ -126,8 +126,12 @@ def add(zf: zipfile.ZipFile, arcname: str, data: bytes, mode: int = 0o644) -> No
     zf.writestr(info, data)
 
 
-def package(variant: str, out_dir: Path, binary: bytes, date: str | None) -> Path:
-    xml_path = REPO / "modelDescription" / f"{variant}.xml"
+def package(variant: str, out_dir: Path, binaries: list[tuple[str, str, bytes]], date: str | None,
+            md_dir: Path = REPO / "modelDescription", doc=None) -> Path:
+    """Writes out_dir/<variant>.fmu: the model description of `md_dir` (dated), each binary as
+    binaries/<platform>/<modelIdentifier>.<ext> (`binaries`: (platform, ext, bytes)), and the
+    documentation page `doc(root)` (default: the FMI 2.0 page)."""
+    xml_path = md_dir / f"{variant}.xml"
     if not xml_path.is_file():
         sys.exit(f"error: {xml_path.relative_to(REPO)} is missing; generate it with\n"
                  "  cargo run --release --bin gen_model_description -- modelDescription")
@@ -141,8 +145,9 @@ def package(variant: str, out_dir: Path, binary: bytes, date: str | None) -> Pat
     tmp = fmu.with_suffix(".fmu.tmp")
     with zipfile.ZipFile(tmp, "w") as zf:
         add(zf, "modelDescription.xml", xml)
-        add(zf, f"binaries/linux64/{identifier}.so", binary, 0o755)
-        add(zf, "documentation/index.html", documentation(root).encode("utf-8"))
+        for platform, ext, blob in binaries:
+            add(zf, f"binaries/{platform}/{identifier}.{ext}", blob, 0o755)
+        add(zf, "documentation/index.html", (doc or documentation)(root).encode("utf-8"))
     tmp.replace(fmu)
     return fmu
 
@@ -159,7 +164,7 @@ def main() -> None:
     binary = stripped_library(LIBRARY, out_dir / "debug")
     date = generation_date()
     for v in variants:
-        fmu = package(v, out_dir, binary, date)
+        fmu = package(v, out_dir, [("linux64", "so", binary)], date)
         print(f"{str(fmu.relative_to(REPO)):<36} {fmu.stat().st_size:>12,d} bytes")
 
 

@@ -10,12 +10,11 @@ Usage: package_fmi3.py [Variant ...]   (default: all five)
 import html
 import sys
 import xml.etree.ElementTree as ET
-import zipfile
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from package import (LIBRARY, REPO, VARIANTS, add, generation_date, page,  # noqa: E402
-                     stripped_library, with_generation_date)
+from package import (LIBRARY, REPO, VARIANTS, generation_date, package, page,  # noqa: E402
+                     stripped_library)
 
 TYPES = ("Float32", "Float64", "Int8", "UInt8", "Int16", "UInt16", "Int32", "UInt32", "Int64",
          "UInt64", "Boolean", "String", "Binary", "Enumeration", "Clock")
@@ -41,29 +40,6 @@ def documentation(root: ET.Element) -> str:
     return page(root, identity, NOT_PROVIDED, rows)
 
 
-def package(variant: str, out_dir: Path, binary: bytes, date: str | None) -> Path:
-    xml_path = REPO / "modelDescription" / "fmi3" / f"{variant}.xml"
-    if not xml_path.is_file():
-        sys.exit(f"error: {xml_path.relative_to(REPO)} is missing; generate it with\n"
-                 "  cargo run --release --bin gen_model_description -- modelDescription")
-    xml = with_generation_date(xml_path.read_bytes(), date)
-    root = ET.fromstring(xml)
-    if root.get("fmiVersion") != "3.0":
-        sys.exit(f"error: {xml_path.relative_to(REPO)} is not an FMI 3.0 model description")
-    cs = root.find("CoSimulation")
-    identifier = cs.get("modelIdentifier") if cs is not None else None
-    if identifier != variant:
-        sys.exit(f"error: {xml_path.name}: CoSimulation modelIdentifier is {identifier!r}, expected {variant!r}")
-    fmu = out_dir / f"{variant}.fmu"
-    tmp = fmu.with_suffix(".fmu.tmp")
-    with zipfile.ZipFile(tmp, "w") as zf:
-        add(zf, "modelDescription.xml", xml)
-        add(zf, f"binaries/x86_64-linux/{identifier}.so", binary, 0o755)
-        add(zf, "documentation/index.html", documentation(root).encode("utf-8"))
-    tmp.replace(fmu)
-    return fmu
-
-
 def main() -> None:
     variants = sys.argv[1:] or VARIANTS
     unknown = sorted(set(variants) - set(VARIANTS))
@@ -76,7 +52,8 @@ def main() -> None:
     binary = stripped_library(LIBRARY, REPO / "dist" / "debug")
     date = generation_date()
     for v in variants:
-        fmu = package(v, out_dir, binary, date)
+        fmu = package(v, out_dir, [("x86_64-linux", "so", binary)], date,
+                      md_dir=REPO / "modelDescription" / "fmi3", doc=documentation)
         print(f"{str(fmu.relative_to(REPO)):<36} {fmu.stat().st_size:>12,d} bytes")
 
 

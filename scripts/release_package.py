@@ -10,35 +10,17 @@ Usage: release_package.py <linux .so> <windows .dll> <macOS universal .dylib>
                           <macOS x86_64 .dylib> <macOS arm64 .dylib> [Variant ...]
 """
 import sys
-import xml.etree.ElementTree as ET
-import zipfile
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "scripts"))
-from package import VARIANTS, add, documentation, generation_date, with_generation_date  # noqa: E402
+from package import VARIANTS, generation_date, package  # noqa: E402
 from package_fmi3 import documentation as documentation_fmi3  # noqa: E402
 
 # (directory, extension, index of the library on the command line)
 FMI2_PLATFORMS = (("linux64", "so", 0), ("win64", "dll", 1), ("darwin64", "dylib", 2))
 FMI3_PLATFORMS = (("x86_64-linux", "so", 0), ("x86_64-windows", "dll", 1),
                   ("x86_64-darwin", "dylib", 3), ("aarch64-darwin", "dylib", 4))
-
-
-def package(xml_path: Path, fmu: Path, platforms, blobs, doc) -> None:
-    xml = with_generation_date(xml_path.read_bytes(), generation_date())
-    root = ET.fromstring(xml)
-    identifier = root.find("CoSimulation").get("modelIdentifier")
-    if identifier != fmu.stem:
-        sys.exit(f"error: {xml_path}: modelIdentifier {identifier!r}")
-    tmp = fmu.with_suffix(".fmu.tmp")
-    with zipfile.ZipFile(tmp, "w") as zf:
-        add(zf, "modelDescription.xml", xml)
-        for platform, ext, i in platforms:
-            add(zf, f"binaries/{platform}/{identifier}.{ext}", blobs[i], 0o755)
-        add(zf, "documentation/index.html", doc(root).encode("utf-8"))
-    tmp.replace(fmu)
-    print(f"{str(fmu.relative_to(REPO)):<44} {fmu.stat().st_size:>12,d} bytes")
 
 
 def main() -> None:
@@ -52,11 +34,12 @@ def main() -> None:
     blobs = [lib.read_bytes() for lib in libraries]
     out_dir = REPO / "dist" / "release"
     (out_dir / "fmi3").mkdir(parents=True, exist_ok=True)
+    date = generation_date()
     for v in variants:
-        package(REPO / "modelDescription" / f"{v}.xml", out_dir / f"{v}.fmu", FMI2_PLATFORMS, blobs,
-                documentation)
-        package(REPO / "modelDescription" / "fmi3" / f"{v}.xml", out_dir / "fmi3" / f"{v}.fmu",
-                FMI3_PLATFORMS, blobs, documentation_fmi3)
+        for fmu in (package(v, out_dir, [(p, ext, blobs[i]) for p, ext, i in FMI2_PLATFORMS], date),
+                    package(v, out_dir / "fmi3", [(p, ext, blobs[i]) for p, ext, i in FMI3_PLATFORMS], date,
+                            md_dir=REPO / "modelDescription" / "fmi3", doc=documentation_fmi3)):
+            print(f"{str(fmu.relative_to(REPO)):<44} {fmu.stat().st_size:>12,d} bytes")
 
 
 if __name__ == "__main__":
