@@ -48,6 +48,7 @@ impl PanicDefault for () {
 /// Runs an exported body with panics caught, so that no unwind crosses the C boundary.
 ///
 /// `ffi_boundary!(F, { .. })` for functions without an instance; `ffi_boundary!(c, F, { .. })`
+/// (an fmi2Component or fmi3Instance: both are the boxed `ModelInstance`)
 /// marks the instance behind `c` Fatal and logs the panic through its logger. The fallback
 /// value comes from the return type (`PanicDefault`). `return` inside the body returns from
 /// the exported function with that value.
@@ -71,6 +72,8 @@ macro_rules! ffi_boundary {
         }
     };
 }
+/// For the FMI 3.0 boundary, which shares this panic wall (`crate::fmi3`).
+pub(crate) use ffi_boundary;
 
 /// `&mut ModelInstance` from the component, or `return fmi2Error` for NULL (nothing to log
 /// through). Traces the call under logAll. With a `Call`, also checks that the call is allowed
@@ -111,7 +114,8 @@ pub(crate) fn panic_caught(c: fmi2Component, fname: &str, payload: Box<dyn Any +
     };
     inst.set_fatal();
     let message = format!(
-        "{fname}: internal error (Rust panic: {what}); the instance is unusable, only fmi2FreeInstance is allowed"
+        "{fname}: internal error (Rust panic: {what}); the instance is unusable, only {}FreeInstance is allowed",
+        inst.version().prefix()
     );
     // a second panic while logging must not escape either
     let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {

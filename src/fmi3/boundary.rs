@@ -4,12 +4,11 @@
 //! signatures (`nValues`, `nSeed`, …) and fmi3InstantiateCoSimulation's argument checks.
 
 use super::logger::CallbackLogger;
-use super::types::{fmi3Instance, fmi3InstanceEnvironment, fmi3LogMessageCallback, fmi3Status};
+use super::types::{fmi3InstanceEnvironment, fmi3LogMessageCallback, fmi3Status};
 use crate::error::{Category, FmuError, FmuResult, Level};
-use crate::fmi2::boundary::{c_str, in_slice, instance_mut, out_slice, trace, PanicDefault};
+use crate::fmi2::boundary::{c_str, in_slice, out_slice, trace, PanicDefault};
 use crate::instance::{FmiVersion, LogSink, ModelInstance};
 use crate::model::variables::variant_by_guid;
-use std::any::Any;
 
 impl PanicDefault for fmi3Status {
     /// A caught panic is fmi3Fatal: the instance is unusable.
@@ -18,27 +17,12 @@ impl PanicDefault for fmi3Status {
     }
 }
 
-/// Runs an exported body with panics caught, so that no unwind crosses the C boundary (the
-/// FMI 3.0 twin of `ffi_boundary!`): `ffi3!(F, { .. })` without an instance, `ffi3!(c, F,
-/// { .. })` marks the instance behind `c` Fatal and logs the panic through its logger.
+/// Runs an exported body with panics caught, so that no unwind crosses the C boundary: the
+/// FMI 2.0 boundary's `ffi_boundary!` (`ffi3!(F, { .. })` without an instance, `ffi3!(c, F,
+/// { .. })` marks the instance behind `c` Fatal and logs the panic through its logger).
 macro_rules! ffi3 {
-    ($fname:expr, $body:block) => {
-        match ::std::panic::catch_unwind(::std::panic::AssertUnwindSafe(|| $body)) {
-            Ok(v) => v,
-            Err(payload) => {
-                $crate::fmi3::boundary::panic_caught(::std::ptr::null_mut(), $fname, payload);
-                $crate::fmi2::boundary::PanicDefault::panic_default()
-            }
-        }
-    };
-    ($c:expr, $fname:expr, $body:block) => {
-        match ::std::panic::catch_unwind(::std::panic::AssertUnwindSafe(|| $body)) {
-            Ok(v) => v,
-            Err(payload) => {
-                $crate::fmi3::boundary::panic_caught($c, $fname, payload);
-                $crate::fmi2::boundary::PanicDefault::panic_default()
-            }
-        }
+    ($($args:tt)*) => {
+        $crate::fmi2::boundary::ffi_boundary!($($args)*)
     };
 }
 
@@ -65,29 +49,6 @@ macro_rules! instance3 {
         }
         inst
     }};
-}
-
-/// Marks the instance Fatal after a caught panic and logs the payload (when there is an
-/// instance to log through).
-pub(crate) fn panic_caught(c: fmi3Instance, fname: &str, payload: Box<dyn Any + Send>) {
-    let what = payload
-        .downcast_ref::<&str>()
-        .copied()
-        .or_else(|| payload.downcast_ref::<String>().map(String::as_str))
-        .unwrap_or("(no message)");
-    // SAFETY: as in `instance3!`; the reference taken by the panicking body ended with the
-    // unwind.
-    let Some(inst) = (unsafe { instance_mut(c) }) else {
-        return;
-    };
-    inst.set_fatal();
-    let message = format!(
-        "{fname}: internal error (Rust panic: {what}); the instance is unusable, only fmi3FreeInstance is allowed"
-    );
-    // a second panic while logging must not escape either
-    let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        inst.log(Level::Fatal, Category::Error, &message)
-    }));
 }
 
 /// The one mapping of an instance-layer result to `fmi3Status`; the error is logged once, its
@@ -293,7 +254,9 @@ pub(crate) fn refuse_interface(
 #[cfg(test)]
 mod tests {
     use super::super::exports::{fmi3DoStep, fmi3FreeInstance, fmi3GetFloat64, fmi3Reset};
+    use super::super::types::fmi3Instance;
     use super::*;
+    use crate::fmi2::boundary::instance_mut;
     use crate::instance::Mode;
     use crate::variables::Variant;
     use std::sync::{Arc, Mutex};
