@@ -87,8 +87,9 @@ struct CoSimulation {
     directional_derivative: bool,
 }
 
+/// `<UnitDefinitions>`: the units a table uses (shared by the FMI 2.0 and 3.0 generators).
 #[derive(Serialize)]
-struct UnitDefinitions {
+pub(crate) struct UnitDefinitions {
     #[serde(rename = "Unit")]
     units: Vec<Unit>,
 }
@@ -117,8 +118,9 @@ fn is_zero(x: &i32) -> bool {
     *x == 0
 }
 
+/// `<LogCategories>` (shared by the FMI 2.0 and 3.0 generators).
 #[derive(Serialize)]
-struct LogCategories {
+pub(crate) struct LogCategories {
     #[serde(rename = "Category")]
     categories: Vec<LogCategory>,
 }
@@ -128,11 +130,12 @@ struct LogCategory {
     #[serde(rename = "@name")]
     name: &'static str,
     #[serde(rename = "@description")]
-    description: &'static str,
+    description: String,
 }
 
+/// `<DefaultExperiment>` (shared by the FMI 2.0 and 3.0 generators).
 #[derive(Serialize)]
-struct DefaultExperiment {
+pub(crate) struct DefaultExperiment {
     #[serde(rename = "@startTime")]
     start: &'static str,
     #[serde(rename = "@stopTime")]
@@ -140,6 +143,42 @@ struct DefaultExperiment {
     #[serde(rename = "@stepSize")]
     step: &'static str,
 }
+
+/// The units of `t`'s variables and of `extra` (FMI 3.0's `time`), in `UNITS` order.
+pub(crate) fn unit_definitions(t: &Table, extra: &[&str]) -> UnitDefinitions {
+    let mut used: std::collections::BTreeSet<&str> = t.vars.iter().map(|v| v.unit).collect();
+    used.extend(extra);
+    let units = UNITS
+        .iter()
+        .filter(|(n, _)| used.contains(n))
+        .map(|&(name, [kg, m, s, rad])| Unit {
+            name,
+            base: BaseUnit { kg, m, s, rad },
+        })
+        .collect();
+    UnitDefinitions { units }
+}
+
+/// The log categories, their descriptions naming the functions of FMI version `fmi` ("fmi2",
+/// "fmi3").
+pub(crate) fn log_categories(fmi: &str) -> LogCategories {
+    LogCategories {
+        categories: Category::ALL
+            .iter()
+            .map(|c| LogCategory {
+                name: c.name(),
+                description: c.description().replace("fmi2", fmi),
+            })
+            .collect(),
+    }
+}
+
+/// The default experiment: 1 s in steps of 1 ms.
+pub(crate) const DEFAULT_EXPERIMENT: DefaultExperiment = DefaultExperiment {
+    start: "0",
+    stop: "1",
+    step: "0.001",
+};
 
 #[derive(Serialize)]
 struct ModelVariables {
@@ -249,15 +288,6 @@ pub fn model_description(v: Variant) -> String {
 
 fn build(t: &Table) -> ModelDescription {
     let spec = t.spec;
-    let used: std::collections::BTreeSet<&str> = t.vars.iter().map(|v| v.unit).collect();
-    let units = UNITS
-        .iter()
-        .filter(|(n, _)| used.contains(n))
-        .map(|&(name, [kg, m, s, rad])| Unit {
-            name,
-            base: BaseUnit { kg, m, s, rad },
-        })
-        .collect();
     let vars = t
         .vars
         .iter()
@@ -346,21 +376,9 @@ fn build(t: &Table) -> ModelDescription {
             serialize_state: CAN_SERIALIZE_FMU_STATE,
             directional_derivative: PROVIDES_DIRECTIONAL_DERIVATIVE,
         },
-        units: UnitDefinitions { units },
-        log_categories: LogCategories {
-            categories: Category::ALL
-                .iter()
-                .map(|c| LogCategory {
-                    name: c.name(),
-                    description: c.description(),
-                })
-                .collect(),
-        },
-        default_experiment: DefaultExperiment {
-            start: "0",
-            stop: "1",
-            step: "0.001",
-        },
+        units: unit_definitions(t, &[]),
+        log_categories: log_categories("fmi2"),
+        default_experiment: DEFAULT_EXPERIMENT,
         variables: ModelVariables { vars },
         structure: ModelStructure {
             outputs: Unknowns { unknowns: outputs },

@@ -5,9 +5,11 @@
 //! must equal its output. The model structure (`dependencies`) is also what
 //! fmi3GetVariableDependencies answers at run time.
 
-use crate::error::Category;
 use crate::model::variables::{table, Causality, Start, Table, Variability, Variant};
-use crate::model_description::{xml_real, UNITS};
+use crate::model_description::{
+    log_categories, unit_definitions, xml_real, DefaultExperiment, LogCategories, UnitDefinitions,
+    DEFAULT_EXPERIMENT,
+};
 use serde::Serialize;
 
 /// The value reference of the independent variable `time` (FMI 3.0 requires one; no table
@@ -106,60 +108,6 @@ struct CoSimulation {
     has_event_mode: bool,
     #[serde(rename = "@providesEvaluateDiscreteStates")]
     evaluate_discrete_states: bool,
-}
-
-#[derive(Serialize)]
-struct UnitDefinitions {
-    #[serde(rename = "Unit")]
-    units: Vec<Unit>,
-}
-
-#[derive(Serialize)]
-struct Unit {
-    #[serde(rename = "@name")]
-    name: &'static str,
-    #[serde(rename = "BaseUnit")]
-    base: BaseUnit,
-}
-
-#[derive(Serialize, Default)]
-struct BaseUnit {
-    #[serde(rename = "@kg", skip_serializing_if = "is_zero")]
-    kg: i32,
-    #[serde(rename = "@m", skip_serializing_if = "is_zero")]
-    m: i32,
-    #[serde(rename = "@s", skip_serializing_if = "is_zero")]
-    s: i32,
-    #[serde(rename = "@rad", skip_serializing_if = "is_zero")]
-    rad: i32,
-}
-
-fn is_zero(x: &i32) -> bool {
-    *x == 0
-}
-
-#[derive(Serialize)]
-struct LogCategories {
-    #[serde(rename = "Category")]
-    categories: Vec<LogCategory>,
-}
-
-#[derive(Serialize)]
-struct LogCategory {
-    #[serde(rename = "@name")]
-    name: &'static str,
-    #[serde(rename = "@description")]
-    description: String,
-}
-
-#[derive(Serialize)]
-struct DefaultExperiment {
-    #[serde(rename = "@startTime")]
-    start: &'static str,
-    #[serde(rename = "@stopTime")]
-    stop: &'static str,
-    #[serde(rename = "@stepSize")]
-    step: &'static str,
 }
 
 #[derive(Serialize)]
@@ -266,16 +214,6 @@ fn variability(v: Variability) -> &'static str {
 
 fn build(t: &Table) -> ModelDescription {
     let spec = t.spec;
-    let mut used: std::collections::BTreeSet<&str> = t.vars.iter().map(|v| v.unit).collect();
-    used.insert("s"); // time
-    let units = UNITS
-        .iter()
-        .filter(|(n, _)| used.contains(n))
-        .map(|&(name, [kg, m, s, rad])| Unit {
-            name,
-            base: BaseUnit { kg, m, s, rad },
-        })
-        .collect();
     let time = Variable::Float64(Var {
         name: "time".to_string(),
         vr: TIME_VR,
@@ -356,21 +294,9 @@ fn build(t: &Table) -> ModelDescription {
             has_event_mode: HAS_EVENT_MODE,
             evaluate_discrete_states: false,
         },
-        units: UnitDefinitions { units },
-        log_categories: LogCategories {
-            categories: Category::ALL
-                .iter()
-                .map(|c| LogCategory {
-                    name: c.name(),
-                    description: c.description().replace("fmi2", "fmi3"),
-                })
-                .collect(),
-        },
-        default_experiment: DefaultExperiment {
-            start: "0",
-            stop: "1",
-            step: "0.001",
-        },
+        units: unit_definitions(t, &["s"]), // "s": the time variable
+        log_categories: log_categories("fmi3"),
+        default_experiment: DEFAULT_EXPERIMENT,
         variables: ModelVariables { vars },
         structure: ModelStructure {
             outputs: unknowns(false),
