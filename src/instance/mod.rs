@@ -199,7 +199,7 @@ impl ModelInstance {
         self.s.mode = Mode::Fatal;
     }
 
-    /// Checks that `call` (named `fname` in messages) is allowed in the current mode.
+    /// Checks that `call` is allowed in the current mode (the boundary names the function).
     pub fn allowed(&self, call: Call) -> FmuResult<()> {
         if call.mask() & self.s.mode as u32 != 0 {
             Ok(())
@@ -322,7 +322,7 @@ impl ModelInstance {
         Ok(self.s.clone())
     }
 
-    /// Refuses an FMU state made by an instance of another variant (`fname` names the caller):
+    /// Refuses an FMU state made by an instance of another variant:
     /// its parameters and inputs follow another variable table.
     pub fn own_state(&self, s: &Snapshot) -> FmuResult<()> {
         if s.variant == self.s.variant {
