@@ -5,14 +5,14 @@ use crate::error::{Category, Level};
 use crate::instance::LogSink;
 use std::ffi::CString;
 
-/// The importer's `componentEnvironment`: never dereferenced here, only handed back to its
-/// own logger.
-struct Env(fmi2ComponentEnvironment);
+/// The importer's `componentEnvironment` (FMI 3.0: `instanceEnvironment`, the same pointer
+/// type): never dereferenced here, only handed back to its own logger.
+pub(crate) struct Env(pub(crate) fmi2ComponentEnvironment);
 
 // SAFETY: the pointer is opaque to the FMU and only passed back to the importer's callback.
-// FMI 2.0 lets an instance be used from any thread as long as calls on one instance are not
-// concurrent, and requires the callbacks and componentEnvironment to stay valid until
-// fmi2FreeInstance; moving the instance (and with it this pointer) to another thread is
+// FMI 2.0 and 3.0 let an instance be used from any thread as long as calls on one instance are
+// not concurrent, and require the callback and its environment to stay valid until the
+// instance is freed; moving the instance (and with it this pointer) to another thread is
 // therefore within the importer's callback contract.
 unsafe impl Send for Env {}
 
@@ -21,12 +21,29 @@ pub(crate) struct CallbackLogger {
     callback: fmi2CallbackLogger,
     env: Env,
     instance_name: CString,
-    /// Category names as C strings, in `Category::ALL` order.
-    categories: [CString; 4],
+    categories: CategoryNames,
+}
+
+/// The log categories' names as C strings (both FMI versions' loggers pass them).
+pub(crate) struct CategoryNames([CString; 4]);
+
+impl CategoryNames {
+    pub(crate) fn new() -> Self {
+        CategoryNames(Category::ALL.map(|c| c_string(c.name())))
+    }
+
+    /// The name of `category`, NUL-terminated.
+    pub(crate) fn get(&self, category: Category) -> &CString {
+        let i = Category::ALL
+            .iter()
+            .position(|&c| c == category)
+            .unwrap_or(0);
+        &self.0[i]
+    }
 }
 
 /// A C string of `s`, with interior NUL bytes made visible instead of truncating the text.
-fn c_string(s: &str) -> CString {
+pub(crate) fn c_string(s: &str) -> CString {
     CString::new(s.replace('\0', "\\0")).unwrap_or_default()
 }
 
@@ -41,7 +58,7 @@ impl CallbackLogger {
             callback,
             env: Env(env),
             instance_name: c_string(instance_name),
-            categories: Category::ALL.map(|c| c_string(c.name())),
+            categories: CategoryNames::new(),
         }
     }
 }
@@ -50,10 +67,6 @@ impl LogSink for CallbackLogger {
     fn log(&self, level: Level, category: Category, message: &str) {
         // importers use `message` as a printf format: every '%' must reach them doubled
         let text = c_string(&message.replace('%', "%%"));
-        let i = Category::ALL
-            .iter()
-            .position(|&c| c == category)
-            .unwrap_or(0);
         // SAFETY: `callback` is the importer's logger, valid until fmi2FreeInstance (FMI 2.0
         // §2.1.5); it is called with exactly its five fixed arguments, all C strings are
         // NUL-terminated and outlive the call, and no printf directive remains in `text`.
@@ -62,7 +75,7 @@ impl LogSink for CallbackLogger {
                 self.env.0,
                 self.instance_name.as_ptr(),
                 fmi2Status::from(level),
-                self.categories[i].as_ptr(),
+                self.categories.get(category).as_ptr(),
                 text.as_ptr(),
             )
         }

@@ -6,6 +6,6 @@
 #[macro_use]
 pub(crate) mod boundary;
 pub mod exports;
-mod logger;
+pub(crate) mod logger;
 pub(crate) mod policy;
 pub mod types;
