@@ -31,11 +31,12 @@ pub mod capabilities {
     pub const PROVIDES_ADJOINT_DERIVATIVES: bool = true;
     /// No intermediate update callback is ever called.
     pub const PROVIDES_INTERMEDIATE_UPDATE: bool = false;
-    /// fmi3DoStep always completes the step (no event location yet).
-    pub const MIGHT_RETURN_EARLY_FROM_DO_STEP: bool = false;
+    /// With earlyReturnAllowed, fmi3DoStep ends at the first event located inside the step.
+    pub const MIGHT_RETURN_EARLY_FROM_DO_STEP: bool = true;
     /// Needs intermediate update.
     pub const CAN_RETURN_EARLY_AFTER_INTERMEDIATE_UPDATE: bool = false;
-    /// No events or clocks: fmi3EnterEventMode answers fmi3Error.
+    /// No Event Mode or clocks (the events are the FMU's own, met by early return):
+    /// fmi3EnterEventMode answers fmi3Error.
     pub const HAS_EVENT_MODE: bool = false;
 }
 

@@ -62,8 +62,14 @@ fn new_env() -> usize {
     NEXT_ENV.fetch_add(1, Ordering::Relaxed)
 }
 
-/// fmi3InstantiateCoSimulation with the given token and eventModeUsed, logging under `env`.
+/// fmi3InstantiateCoSimulation with the given token and eventModeUsed (earlyReturnAllowed
+/// false), logging under `env`.
 fn instantiate(token: &str, event_mode_used: bool, env: usize) -> fmi3Instance {
+    instantiate_with(token, event_mode_used, false, env)
+}
+
+/// fmi3InstantiateCoSimulation with the given token, eventModeUsed and earlyReturnAllowed.
+fn instantiate_with(token: &str, event_mode_used: bool, early: bool, env: usize) -> fmi3Instance {
     let name = CString::new("fmi3 test").unwrap();
     let token = CString::new(token).unwrap();
     fmi3InstantiateCoSimulation(
@@ -73,7 +79,7 @@ fn instantiate(token: &str, event_mode_used: bool, env: usize) -> fmi3Instance {
         fmi3False,
         fmi3False,
         u8::from(event_mode_used),
-        fmi3True,
+        u8::from(early),
         null(),
         0,
         env as *mut c_void,
@@ -97,8 +103,13 @@ impl Drop for Fmu3 {
 
 impl Fmu3 {
     fn new(v: Variant) -> Fmu3 {
+        Fmu3::with_early_return(v, false)
+    }
+
+    /// An instance with earlyReturnAllowed = `early`.
+    fn with_early_return(v: Variant, early: bool) -> Fmu3 {
         let env = new_env();
-        let c = instantiate(&table(v).guid, false, env);
+        let c = instantiate_with(&table(v).guid, false, early, env);
         assert!(!c.is_null(), "{v:?}: {:?}", log_of(env));
         Fmu3 { c, env, variant: v }
     }

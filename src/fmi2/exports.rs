@@ -485,6 +485,7 @@ pub extern "C" fn fmi2DoStep(
     ffi_boundary!(c, F, {
         let inst = instance!(c, F);
         inst.do_step(currentCommunicationPoint, communicationStepSize)
+            .map(|_| ())
             .to_status(inst, F)
     })
 }

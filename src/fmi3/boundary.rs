@@ -176,6 +176,7 @@ pub(crate) struct InstantiateArgs {
     pub token: *const libc::c_char,
     pub logging_on: bool,
     pub event_mode_used: bool,
+    pub early_return_allowed: bool,
     pub required_intermediate: (*const u32, usize),
     pub env: fmi3InstanceEnvironment,
     pub log_message: Option<fmi3LogMessageCallback>,
@@ -223,7 +224,8 @@ pub(crate) unsafe fn instantiate(a: InstantiateArgs) -> Option<ModelInstance> {
     match checked {
         Ok((variant, name)) => {
             let inst = ModelInstance::new(variant, name, Box::new(logger), a.logging_on)
-                .with_version(FmiVersion::V3);
+                .with_version(FmiVersion::V3)
+                .with_early_return(a.early_return_allowed);
             trace(&inst, F);
             Some(inst)
         }

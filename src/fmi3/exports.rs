@@ -85,8 +85,9 @@ pub extern "C" fn fmi3InstantiateModelExchange(
 
 /// fmi3InstantiateCoSimulation: NULL (after logging why, when a logger exists) for a NULL or
 /// empty name, an unknown instantiationToken, eventModeUsed = true (no Event Mode) or a NULL
-/// requiredIntermediateVariables with a non-zero count. earlyReturnAllowed is accepted; this
-/// FMU never returns early. A NULL logMessage is allowed (nothing is logged then).
+/// requiredIntermediateVariables with a non-zero count. With earlyReturnAllowed, fmi3DoStep
+/// returns early at the first event inside a step. A NULL logMessage is allowed (nothing is
+/// logged then).
 #[no_mangle]
 pub extern "C" fn fmi3InstantiateCoSimulation(
     instanceName: fmi3String,
@@ -95,7 +96,7 @@ pub extern "C" fn fmi3InstantiateCoSimulation(
     _visible: fmi3Boolean,
     loggingOn: fmi3Boolean,
     eventModeUsed: fmi3Boolean,
-    _earlyReturnAllowed: fmi3Boolean,
+    earlyReturnAllowed: fmi3Boolean,
     requiredIntermediateVariables: *const fmi3ValueReference,
     nRequiredIntermediateVariables: size_t,
     instanceEnvironment: fmi3InstanceEnvironment,
@@ -108,6 +109,7 @@ pub extern "C" fn fmi3InstantiateCoSimulation(
             token: instantiationToken,
             logging_on: loggingOn != 0,
             event_mode_used: eventModeUsed != 0,
+            early_return_allowed: earlyReturnAllowed != 0,
             required_intermediate: (
                 requiredIntermediateVariables,
                 nRequiredIntermediateVariables,
@@ -914,9 +916,11 @@ pub extern "C" fn fmi3GetOutputDerivatives(
 }
 
 /// fmi3DoStep: advances from currentCommunicationPoint by communicationStepSize along the input
-/// extrapolation, always to the end of the step (no event location in this FMU yet):
-/// eventHandlingNeeded, terminateSimulation and earlyReturn are fmi3False, lastSuccessfulTime
-/// is the FMU's time after the call (t + h, or t when the step is refused).
+/// extrapolation. With earlyReturnAllowed (at instantiation) it stops at the first event inside
+/// the step (docs/fmi3.md, "Early return"): earlyReturn = fmi3True and lastSuccessfulTime = the
+/// event time, where outputs and state now are; otherwise earlyReturn = fmi3False and
+/// lastSuccessfulTime = t + h (t when the step is refused). eventHandlingNeeded and
+/// terminateSimulation are always fmi3False (no Event Mode, never terminates).
 #[no_mangle]
 pub extern "C" fn fmi3DoStep(
     c: fmi3Instance,
@@ -946,9 +950,9 @@ pub extern "C" fn fmi3DoStep(
             let stepped = inst.do_step(currentCommunicationPoint, communicationStepSize);
             *event = fmi3False;
             *terminate = fmi3False;
-            *early = fmi3False;
+            *early = fmi3Boolean::from(stepped == Ok(true));
             *last = inst.time();
-            stepped
+            stepped.map(|_| ())
         });
         r.to_status(inst, F)
     })

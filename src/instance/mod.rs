@@ -132,6 +132,8 @@ pub struct ModelInstance {
     categories: [bool; 4],
     fmi: FmiVersion,
     s: Snapshot,
+    /// Whether fmi3DoStep stops at the first event (earlyReturnAllowed).
+    early_return: bool,
     /// Outputs at the current inputs and committed state.
     cache: OutputCache,
 }
@@ -150,8 +152,16 @@ impl ModelInstance {
             categories: [true; 4],
             fmi: FmiVersion::V2,
             s: Snapshot::start(table),
+            early_return: false,
             cache: OutputCache::new(),
         }
+    }
+
+    /// The same instance stopping its steps at the first event when `allowed` (FMI 3.0's
+    /// earlyReturnAllowed).
+    pub fn with_early_return(mut self, allowed: bool) -> Self {
+        self.early_return = allowed;
+        self
     }
 
     /// The same instance answering for another FMI version (names in its messages).
@@ -233,6 +243,7 @@ impl ModelInstance {
         }
         self.s.start_time = start;
         self.s.time = start;
+        self.s.event.time = start;
         Ok(())
     }
 
@@ -377,6 +388,7 @@ fn evaluate_at_into(
     };
     let mut next = State::default();
     evaluate_into(ct, &s.params, st, &a, &b, mode, (o, &mut next)).map_err(singular_error)?;
+    (o.event_time, o.event_count) = (s.event.time, s.event.count);
     if !crate::physics::step::outputs_finite(o) {
         return Err(FmuError::error(format!(
             "at these inputs {}",

@@ -4,11 +4,12 @@ use super::ModelInstance;
 use super::{singular_text, Call, FmiVersion};
 use crate::error::{Category, FmuError, FmuResult, Level};
 use crate::model::access::{non_finite_cause, write_node};
-use crate::model::snapshot::Mode;
+use crate::model::snapshot::{LastEvent, Mode};
 use crate::physics::connector::{Extrapolation, State};
+use crate::physics::events::{self, EVENT_TOL};
 use crate::physics::kinematics::Node;
 use crate::physics::math::Real;
-use crate::physics::step::{advance_into, Rates, StepError};
+use crate::physics::step::{advance_into, Met, Rates, StepError, Tracking};
 
 impl ModelInstance {
     /// Extrapolation rates of node n for the coming step (hold, or linear from the input
@@ -25,8 +26,10 @@ impl ModelInstance {
         }
     }
 
-    /// fmi2DoStep: advance from t to t + h along the input extrapolation.
-    pub fn do_step(&mut self, t: Real, h: Real) -> FmuResult<()> {
+    /// fmi2DoStep / fmi3DoStep: advance from t to t + h along the input extrapolation,
+    /// locating the events on the way; with early return (FMI 3.0's earlyReturnAllowed) the
+    /// step ends at the first one. Returns whether it did (the FMU's time is then the event's).
+    pub fn do_step(&mut self, t: Real, h: Real) -> FmuResult<bool> {
         self.allowed(Call::DoStep)?;
         if !h.is_finite() || h <= 0.0 {
             return Err(FmuError::error(format!(
@@ -43,6 +46,26 @@ impl ModelInstance {
         let (a, b) = self.nodes()?;
         let (ra, rb) = (self.rates(0, &a), self.rates(1, &b));
         let before = self.wants(Category::Events).then_some(self.s.state);
+        // the event functions at the step's start, from the outputs at its inputs (the cache);
+        // where those cannot be evaluated the step below reports why
+        let start = if events::tracked(self.ct, &self.s.params) {
+            match self.outputs() {
+                Ok(_) => self
+                    .cache
+                    .get()
+                    .map(|o| events::values(self.ct, &self.s.params, &self.s.state, o)),
+                Err(_) => None,
+            }
+        } else {
+            None
+        };
+        let track = start.as_ref().map(|start| Tracking {
+            start,
+            stop_at_first: self.early_return,
+            // an event within the location tolerance of the start is met there, not stopped
+            // at; and the time must move on
+            min_tau: (2.0 * Real::EPSILON * t.abs()).max(EVENT_TOL * h),
+        });
         // the outputs at t + h are evaluated into the cache's spare buffer: it becomes the
         // cache when the step is accepted, and a failed step leaves the cache as it was
         let mut next = State::default();
@@ -53,11 +76,18 @@ impl ModelInstance {
             (&a, &ra),
             (&b, &rb),
             h,
+            track,
             (self.cache.spare(), &mut next),
         ) {
-            Ok((a1, b1)) => {
+            Ok((a1, b1, met)) => {
                 self.s.state = next;
-                self.s.time = t + h;
+                self.s.time = if met.stopped { t + met.tau } else { t + h };
+                self.s.event = LastEvent {
+                    time: t + met.tau,
+                    count: met.count as i32,
+                };
+                let o = self.cache.spare();
+                (o.event_time, o.event_count) = (self.s.event.time, self.s.event.count);
                 write_node(&mut self.s.inputs[0], &a1);
                 write_node(&mut self.s.inputs[1], &b1);
                 self.s.input_der_set = [[false; 13]; 2];
@@ -68,8 +98,11 @@ impl ModelInstance {
                 self.cache.commit_spare();
                 if let Some(before) = before {
                     self.log_transitions(&before, &self.s.state);
+                    if met.count > 0 {
+                        self.log_events(&met);
+                    }
                 }
-                Ok(())
+                Ok(met.stopped)
             }
             Err(e) => {
                 self.s.mode = Mode::Error;
@@ -129,6 +162,25 @@ impl ModelInstance {
                 );
             }
         }
+    }
+
+    /// Logs the events located in the step under logEvents.
+    #[cold]
+    #[inline(never)]
+    fn log_events(&self, met: &Met) {
+        let how = if met.stopped {
+            "the step ends there (early return)"
+        } else {
+            "stepped through"
+        };
+        self.log(
+            Level::Ok,
+            Category::Events,
+            &format!(
+                "{} event(s) in the step, the first at t = {}; {how}",
+                met.count, self.s.event.time
+            ),
+        );
     }
 
     /// fmi2GetRealStatus (fmi2LastSuccessfulTime).

@@ -264,6 +264,7 @@ impl ModelInstance {
             (Field::StopStatus(k), Some(o)) => o.cslst[k as usize],
             (Field::Friction(FrictionField::Status), Some(o)) => o.friction.status as i32,
             (Field::Friction(FrictionField::StatusR1), Some(o)) => o.friction.status_r1 as i32,
+            (Field::Event(_), Some(o)) => o.event_count,
             (f, _) => read_int_param(&s.params, f),
         })
     }

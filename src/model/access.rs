@@ -267,6 +267,8 @@ pub fn read_output(o: &Outputs, f: Field) -> Real {
             let e = &o.energy;
             [e.stored, e.damping, e.friction, e.stops][i as usize]
         }
+        Field::Event(0) => o.event_time,
+        Field::Event(_) => o.event_count as Real,
         _ => 0.0,
     }
 }

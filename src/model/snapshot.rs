@@ -51,6 +51,18 @@ pub struct Snapshot {
     pub input_der_set: [[bool; 13]; 2],
     /// Committed connector state.
     pub state: State,
+    /// The events the last step met.
+    pub event: LastEvent,
+}
+
+/// The events the last step met (the outputs event.time and event.count).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LastEvent {
+    /// Time of the first event in the last step; its end when none (the current time before
+    /// the first step).
+    pub time: Real,
+    /// Number of events in the last step.
+    pub count: i32,
 }
 
 impl Snapshot {
@@ -80,6 +92,10 @@ impl Snapshot {
             input_der: [[0.0; 13]; 2],
             input_der_set: [[false; 13]; 2],
             state: State::default(),
+            event: LastEvent {
+                time: 0.0,
+                count: 0,
+            },
         }
     }
 }

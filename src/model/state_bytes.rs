@@ -4,12 +4,12 @@
 //! and bytes, mode (u8), time and start time (f64), the variant's parameters in table order
 //! (Real f64, Integer i32, Boolean u8), its node inputs in table order (f64), the input
 //! derivatives that are set (u32 mask over the 26 node inputs, then their f64 values), the
-//! connector state, and an FNV-1a 64 checksum of everything before it. Parameters and inputs
+//! connector state, the last step's event record (time f64, count i32), and an FNV-1a 64 checksum of everything before it. Parameters and inputs
 //! are written back through the same checks as fmi2Set*, so a decoded state is one that the
 //! setters could have produced.
 
 use super::access::{read_int_param, read_real_param, write_int, write_real};
-use super::snapshot::{Mode, NodeInputs, Snapshot};
+use super::snapshot::{LastEvent, Mode, NodeInputs, Snapshot};
 use super::variables::{Causality, CompPar, Field, Start, Table};
 use crate::physics::connector::{Energy, State};
 use crate::physics::friction::{FrictionState, Status};
@@ -18,7 +18,7 @@ use crate::physics::math::Vec3;
 
 const MAGIC: &[u8; 4] = b"CFMU";
 /// Version of the byte format; bump on any layout change.
-pub const VERSION: u16 = 2;
+pub const VERSION: u16 = 3;
 
 struct W(Vec<u8>);
 
@@ -185,6 +185,8 @@ pub fn encode(t: &Table, s: &Snapshot) -> Vec<u8> {
     w.b(fr.status_r1 as u8);
     let e = &st.dissipated;
     w.fs(&[e.damping, e.stops, st.power[0], st.power[1]]);
+    w.f(s.event.time);
+    w.0.extend_from_slice(&s.event.count.to_le_bytes());
     let sum = fnv(&w.0);
     w.0.extend_from_slice(&sum.to_le_bytes());
     w.0
@@ -316,6 +318,11 @@ pub fn decode(t: &Table, bytes: &[u8]) -> Result<Snapshot, String> {
     }
     let (st0, st1) = (status(r.b()?)?, status(r.b()?)?);
     let [damping, stops, p0, p1] = r.fs::<4>("energy")?;
+    let event_time = r.f("event time")?;
+    let event_count = r.u32()? as i32;
+    if event_count < 0 {
+        return Err(format!("event count {event_count} is negative"));
+    }
     if r.at != body.len() {
         return Err(format!("{} unexpected trailing bytes", body.len() - r.at));
     }
@@ -356,6 +363,10 @@ pub fn decode(t: &Table, bytes: &[u8]) -> Result<Snapshot, String> {
                 stops,
             },
             power: [p0, p1],
+        },
+        event: LastEvent {
+            time: event_time,
+            count: event_count,
         },
     })
 }

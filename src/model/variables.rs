@@ -282,6 +282,8 @@ pub enum Field {
     Friction(FrictionField),
     /// energy.stored, .damping, .friction, .stops (0..3).
     Energy(u8),
+    /// event.time (0), event.count (1).
+    Event(u8),
     /// Per-component parameter.
     CompParam {
         /// which parameter
@@ -569,6 +571,23 @@ const fn energy(vr: u32, name: &'static str, i: u8, deps: Deps, what: &'static s
     )
 }
 
+const fn event(
+    vr: u32,
+    name: &'static str,
+    start: Start,
+    unit: &'static str,
+    what: &'static str,
+) -> Row {
+    let field = Field::Event(match start {
+        Start::Real(_) => 0,
+        _ => 1,
+    });
+    Row {
+        variability: Variability::Discrete,
+        ..output(vr, name, field, start, unit, Deps::None, what)
+    }
+}
+
 #[allow(clippy::too_many_arguments)]
 const fn param(
     vr: u32,
@@ -762,6 +781,9 @@ const ROWS: &[Row] = &[
     energy(402, "energy.damping", 1, Deps::None, "energy dissipated by dampers since initialization"),
     energy(403, "energy.friction", 2, Deps::None, "energy dissipated by friction since initialization"),
     energy(404, "energy.stops", 3, Deps::None, "energy dissipated by stops since initialization"),
+    // ---- outputs: events located in the last step
+    event(411, "event.time", Start::Real(None), "s", "time of the first event located in the last step: a stop engaging or letting go (CSLST changes), friction stick -> slip or slip -> stick, the normal force of friction passing through zero; the end of the step when none (the start time before the first step). A master that can roll back re-steps to it"),
+    event(412, "event.count", Start::Integer(None), "", "number of events located in the last step (0: none; at an FMI 3.0 early return, the events at lastSuccessfulTime)"),
     // ---- parameters per component slot k = 1..6 (VR 501 + 10·kind + k − 1); described per variant
     comp_param(501, "elasticity.k1", Stiffness, 0, Tunable, Start::Real(Some(0.0)), "N/m", NONNEG),
     comp_param(502, "elasticity.k2", Stiffness, 1, Tunable, Start::Real(Some(0.0)), "N/m", NONNEG),
@@ -850,6 +872,7 @@ fn present(ct: ConnectionType, field: &Field) -> bool {
         Field::StopStatus(k) | Field::CompParam { k, .. } => roles[k as usize] == Role::Available,
         Field::Friction(_) => planar,
         Field::Energy(i) => i != 2 || planar,
+        Field::Event(_) => true,
         Field::Param(p) => {
             use ScalarPar::*;
             match p {

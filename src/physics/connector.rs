@@ -198,6 +198,10 @@ pub struct Outputs {
     pub friction: FrictionOut,
     /// Energy accounts.
     pub energy: Energy,
+    /// event.time: the first event of the last step (set by the instance, not by `evaluate`).
+    pub event_time: Real,
+    /// event.count: the events of the last step (set by the instance, not by `evaluate`).
+    pub event_count: i32,
 }
 
 /// Outputs at nodes (a, b) given the committed state, and the state these imply

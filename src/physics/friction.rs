@@ -257,23 +257,10 @@ pub fn update(
     // trial forces: stick springs and stick dampers with the plastic rates assumed (none in a
     // substep, the committed ones otherwise)
     let rate_p = if stepping { [0.0; 3] } else { st.slip_rate };
-    let damper = |rate_p: [Real; 3]| {
-        [
-            p.c_stick * (rate[0] - rate_p[0]),
-            p.c_stick * (rate[1] - rate_p[1]),
-            p.c_stick_r1 * (rate[2] - rate_p[2]),
-        ]
-    };
-    let elastic = |st: &FrictionState| {
-        [
-            pos[0] - st.slip_plastic[0],
-            pos[1] - st.slip_plastic[1],
-            pos[2] - st.slip_plastic_r1,
-        ]
-    };
-    let (e, d) = (elastic(st), damper(rate_p));
-    let f_tr = [p.k_stick * e[0] + d[0], p.k_stick * e[1] + d[1]];
-    let m_tr = p.k_stick_r1 * e[2] + d[2];
+    let damper = |rate_p: [Real; 3]| damper(p, rate, rate_p);
+    let elastic = |st: &FrictionState| elastic(st, pos);
+    let [f_tr0, f_tr1, m_tr] = trial(p, st, pos, rate, rate_p);
+    let f_tr = [f_tr0, f_tr1];
     // stiffness of the return: the spring and the damper over the substep; at the start the
     // dampers alone, per unit of plastic slip rate
     let k_ret = if start {
@@ -372,6 +359,66 @@ pub fn update(
             * ((spring[0] * spring[0] + spring[1] * spring[1]) / p.k_stick
                 + spring[2] * spring[2] / p.k_stick_r1),
         state: next,
+    }
+}
+
+/// Elastic slip (y, z, α parts) at positions `pos` from the plastic slip of `st`.
+#[inline]
+fn elastic(st: &FrictionState, pos: [Real; 3]) -> [Real; 3] {
+    [
+        pos[0] - st.slip_plastic[0],
+        pos[1] - st.slip_plastic[1],
+        pos[2] - st.slip_plastic_r1,
+    ]
+}
+
+/// Stick damper forces at the relative rates `rate` with the plastic rates `rate_p`.
+#[inline]
+fn damper(p: &FrictionParams, rate: [Real; 3], rate_p: [Real; 3]) -> [Real; 3] {
+    [
+        p.c_stick * (rate[0] - rate_p[0]),
+        p.c_stick * (rate[1] - rate_p[1]),
+        p.c_stick_r1 * (rate[2] - rate_p[2]),
+    ]
+}
+
+/// Trial friction force and moment (f2, f3, m1): stick springs on the elastic slip from the
+/// plastic slip of `st`, stick dampers with the plastic rates `rate_p`.
+#[inline]
+pub fn trial(
+    p: &FrictionParams,
+    st: &FrictionState,
+    pos: [Real; 3],
+    rate: [Real; 3],
+    rate_p: [Real; 3],
+) -> [Real; 3] {
+    let (e, d) = (elastic(st, pos), damper(p, rate, rate_p));
+    [
+        p.k_stick * e[0] + d[0],
+        p.k_stick * e[1] + d[1],
+        p.k_stick_r1 * e[2] + d[2],
+    ]
+}
+
+/// The stick → slip event functions of a substep that starts sticking from `st`: the trial
+/// force minus its limit, sliding (or the coupled ellipsoid) and spin, at positions `pos`,
+/// rates `rate` and normal loads F_NC, M_NR1. Exactly what `update` compares in that substep
+/// (no plastic rate, μ at zero slip speed): ≥ 0 is where the effect slips.
+pub fn stick_slip_function(
+    p: &FrictionParams,
+    st: &FrictionState,
+    pos: [Real; 3],
+    rate: [Real; 3],
+    (f_nc, m_nr1): (Real, Real),
+) -> [Real; 2] {
+    let [f2, f3, m1] = trial(p, st, pos, rate, [0.0; 3]);
+    let limit = (p.mu(0.0) * f_nc).min(p.max_force);
+    if p.coupling == 1 {
+        let rho = 2.0 / 3.0 * p.radius;
+        let phi = (f2 * f2 + f3 * f3 + (m1 / rho) * (m1 / rho)).sqrt() - limit;
+        [phi, phi]
+    } else {
+        [norm2(f2, f3) - limit, m1.abs() - p.mu(0.0) * m_nr1]
     }
 }
 

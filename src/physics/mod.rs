@@ -2,6 +2,7 @@
 
 pub mod connector;
 pub mod disc;
+pub mod events;
 pub mod friction;
 pub mod init;
 pub mod kinematics;

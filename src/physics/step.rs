@@ -3,6 +3,7 @@
 //! follows in internal substeps, and the dissipated energies are integrated.
 
 use super::connector::{evaluate_into, Outputs, Params, State};
+use super::events::{self, crossed, locate, values, Values, EVENT_TOL};
 use super::friction::Eval;
 use super::kinematics::{ConnectionType, Node, Shafts, Singular, ALPHA_MAX_GAP};
 use super::math::{quat_exp, Real, Vec3};
@@ -140,7 +141,16 @@ pub fn advance(
 ) -> Result<Advanced, StepError> {
     let mut outputs = Outputs::default();
     let mut state = *st;
-    let (a, b) = advance_into(ct, p, st, (a0, ra), (b0, rb), h, (&mut outputs, &mut state))?;
+    let (a, b, _) = advance_into(
+        ct,
+        p,
+        st,
+        (a0, ra),
+        (b0, rb),
+        h,
+        None,
+        (&mut outputs, &mut state),
+    )?;
     Ok(Advanced {
         outputs,
         state,
@@ -149,11 +159,42 @@ pub fn advance(
     })
 }
 
-/// `advance` writing the outputs and the state at t + h in place (the per-step path: the
-/// outputs go straight into the instance's cache); returns the nodes at t + h.
+/// Event tracking over a step (`events`): the event functions' values at its start, and
+/// whether the step stops at the first event.
+#[derive(Clone, Copy, Debug)]
+pub struct Tracking<'a> {
+    /// The event functions at τ = 0 (from the outputs at the step's inputs and `st`).
+    pub start: &'a Values,
+    /// Stop the step at the first event located at τ ≥ `min_tau` (early return).
+    pub stop_at_first: bool,
+    /// The shortest step that advances the time (an event closer to the start is stepped
+    /// through).
+    pub min_tau: Real,
+}
+
+/// What a step met.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Met {
+    /// Time into the step of the first event (the step's length when none).
+    pub tau: Real,
+    /// Number of events: sign changes of event functions over the part of the step taken.
+    pub count: u32,
+    /// Whether the step stopped at the first event (then it ends at `tau`).
+    pub stopped: bool,
+}
+
+/// `advance` writing the outputs and the state at the step's end in place (the per-step path:
+/// the outputs go straight into the instance's cache); returns the nodes there and the events
+/// met. Without `track`, no event is looked for (`Met` says none).
+///
+/// With `track`, the event functions are compared at the ends of every substep; in the first
+/// substep where one changes side its root is located (`events::locate`) on that substep's own
+/// evaluation from the state it starts from, so the event time is the time of the committed
+/// path, and with `stop_at_first` the step ends there: outputs, state and nodes at that time.
 ///
 /// On error the contents of `o` and `next` are unspecified and `st` is untouched.
 #[inline]
+#[allow(clippy::too_many_arguments)]
 pub fn advance_into(
     ct: ConnectionType,
     p: &Params,
@@ -161,10 +202,39 @@ pub fn advance_into(
     (a0, ra): (&Node, &Rates),
     (b0, rb): (&Node, &Rates),
     h: Real,
+    track: Option<Tracking>,
     (o, next): (&mut Outputs, &mut State),
-) -> Result<(Node, Node), StepError> {
+) -> Result<(Node, Node, Met), StepError> {
     let n = substeps(p, ra, rb, h)?;
     let dt = h / n as Real;
+    // one substep from `s` at τ0 to the nodes (a, b) at τ: evaluation, dissipated energies,
+    // finite outputs
+    let substep = |s: &State,
+                   (tau0, tau): (Real, Real),
+                   (a, b): (&Node, &Node),
+                   o: &mut Outputs,
+                   next: &mut State| {
+        let dt = tau - tau0;
+        evaluate_into(ct, p, s, a, b, Eval::Step(dt), (&mut *o, &mut *next))
+            .map_err(|e| StepError::Singular(e, tau))?;
+        // trapezoidal rule on the dissipation powers
+        next.dissipated.damping += 0.5 * (s.power[0] + next.power[0]) * dt;
+        next.dissipated.stops += 0.5 * (s.power[1] + next.power[1]) * dt;
+        o.energy.damping = next.dissipated.damping;
+        o.energy.stops = next.dissipated.stops;
+        if !outputs_finite(o) {
+            return Err(StepError::NotFinite(tau));
+        }
+        Ok(())
+    };
+    let nodes = |tau: Real| (extrapolate(a0, ra, tau), extrapolate(b0, rb, tau));
+    let mut met = Met {
+        tau: h,
+        count: 0,
+        stopped: false,
+    };
+    // the event functions at the start of the substep
+    let mut at_start = track.map(|t| *t.start);
     // the state the substep starts from: `st`, then a copy of the last substep's end
     let mut prev: Option<State> = None;
     // path guard of centred types (below): the shafts at the start of the substep, and the
@@ -173,9 +243,9 @@ pub fn advance_into(
     let (w_rel0, w_rel1) = ((rb.dth - ra.dth).norm(), (rb.dw - ra.dw).norm());
     for j in 1..=n {
         // time as t0 + j·dt, never accumulated
+        let tau0 = h * (j - 1) as Real / n as Real;
         let tau = h * j as Real / n as Real;
-        let a = extrapolate(a0, ra, tau);
-        let b = extrapolate(b0, rb, tau);
+        let (mut a, mut b) = nodes(tau);
         if ct.centred() {
             // α changes no faster than the relative angular velocity, so a substep whose ends
             // are both regular can still pass through the folded configuration between them:
@@ -199,18 +269,40 @@ pub fn advance_into(
             shafts_prev = shafts;
         }
         let s: &State = if j == 1 { st } else { prev.insert(*next) };
-        evaluate_into(ct, p, s, &a, &b, Eval::Step(dt), (&mut *o, &mut *next))
-            .map_err(|e| StepError::Singular(e, tau))?;
-        // trapezoidal rule on the dissipation powers
-        next.dissipated.damping += 0.5 * (s.power[0] + next.power[0]) * dt;
-        next.dissipated.stops += 0.5 * (s.power[1] + next.power[1]) * dt;
-        o.energy.damping = next.dissipated.damping;
-        o.energy.stops = next.dissipated.stops;
-        if !outputs_finite(o) {
-            return Err(StepError::NotFinite(tau));
+        substep(s, (tau0, tau), (&a, &b), o, next)?;
+        if let (Some(start), Some(track)) = (at_start.as_mut(), track) {
+            let end = values(ct, p, s, o);
+            let crossed = crossed(start, &end).count() as u32;
+            if crossed > 0 && met.count == 0 {
+                // the first substep with events: locate each, the earliest is the first event
+                let mut scratch = (Outputs::default(), State::default());
+                let mut first = tau;
+                for i in events::crossed(start, &end) {
+                    let at = |t: Real| {
+                        let (a, b) = nodes(t);
+                        substep(s, (tau0, t), (&a, &b), &mut scratch.0, &mut scratch.1)?;
+                        Ok::<_, StepError>(values(ct, p, s, &scratch.0)[i])
+                    };
+                    let root = locate(i, (tau0, start[i]), (tau, end[i]), EVENT_TOL * h, at)?;
+                    first = first.min(root);
+                }
+                met.tau = first;
+                if track.stop_at_first && first >= track.min_tau && (first < tau || j < n) {
+                    if first < tau {
+                        (a, b) = nodes(first);
+                        substep(s, (tau0, first), (&a, &b), o, next)?;
+                    }
+                    let end = values(ct, p, s, o);
+                    met.count = events::crossed(start, &end).count() as u32;
+                    met.stopped = true;
+                    return Ok((a, b, met));
+                }
+            }
+            met.count += crossed;
+            *start = values(ct, p, next, o);
         }
         if j == n {
-            return Ok((a, b));
+            return Ok((a, b, met));
         }
     }
     // n ≥ 1, so the loop returned
