@@ -12,17 +12,28 @@ use crate::physics::math::Real;
 use crate::physics::step::{advance_into, Met, Rates, StepError, Tracking};
 
 impl ModelInstance {
-    /// Extrapolation rates of node n for the coming step (hold, or linear from the input
-    /// derivatives where set and the node's own velocities elsewhere).
-    fn rates(&self, n: usize, node: &Node) -> Rates {
+    /// Extrapolation rates of node n for a step from t (hold; linear from the input
+    /// derivatives where set and the node's own velocities elsewhere; second order, with the
+    /// accelerations from the velocity inputs of the previous communication point where no
+    /// input derivative gives them).
+    fn rates(&self, n: usize, node: &Node, t: Real) -> Rates {
+        let (q, der, set) = (
+            &self.s.inputs[n][3..7],
+            &self.s.input_der[n],
+            &self.s.input_der_set[n],
+        );
         match self.s.params.extrapolation {
             Extrapolation::Hold => Rates::HOLD,
-            Extrapolation::Linear => Rates::linear(
-                node,
-                &self.s.inputs[n][3..7],
-                &self.s.input_der[n],
-                &self.s.input_der_set[n],
-            ),
+            Extrapolation::Linear => Rates::linear(node, q, der, set),
+            Extrapolation::Quadratic => {
+                let prev = self
+                    .s
+                    .history
+                    .as_ref()
+                    .filter(|(t0, _)| t > *t0)
+                    .map(|(t0, vel)| (t - t0, &vel[n]));
+                Rates::quadratic(node, q, der, set, prev)
+            }
         }
     }
 
@@ -44,7 +55,7 @@ impl ModelInstance {
             )));
         }
         let (a, b) = self.nodes()?;
-        let (ra, rb) = (self.rates(0, &a), self.rates(1, &b));
+        let (ra, rb) = (self.rates(0, &a, t), self.rates(1, &b, t));
         let before = self.wants(Category::Events).then_some(self.s.state);
         // the event functions at the step's start, from the outputs at its inputs (the cache);
         // where those cannot be evaluated the step below reports why
@@ -80,6 +91,13 @@ impl ModelInstance {
             (self.cache.spare(), &mut next),
         ) {
             Ok((a1, b1, met)) => {
+                if self.s.params.extrapolation == Extrapolation::Quadratic {
+                    let vel = |n: usize| {
+                        let x = &self.s.inputs[n];
+                        [x[7], x[8], x[9], x[10], x[11], x[12]]
+                    };
+                    self.s.history = Some((t, [vel(0), vel(1)]));
+                }
                 self.s.state = next;
                 self.s.time = if met.stopped { t + met.tau } else { t + h };
                 self.s.event = LastEvent {

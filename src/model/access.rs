@@ -155,10 +155,10 @@ pub fn write_int(p: &mut Params, v: &VarSpec, x: i32) -> Result<(), String> {
     match v.field {
         Field::Param(ScalarPar::Coupling) => p.friction.coupling = x,
         Field::Param(ScalarPar::Extrapolation) => {
-            p.extrapolation = if x == 0 {
-                Extrapolation::Hold
-            } else {
-                Extrapolation::Linear
+            p.extrapolation = match x {
+                0 => Extrapolation::Hold,
+                1 => Extrapolation::Linear,
+                _ => Extrapolation::Quadratic,
             }
         }
         _ => return Err("is not an Integer".to_string()),
@@ -216,6 +216,7 @@ pub fn read_int_param(p: &Params, f: Field) -> i32 {
         Field::Param(ScalarPar::Extrapolation) => match p.extrapolation {
             Extrapolation::Hold => 0,
             Extrapolation::Linear => 1,
+            Extrapolation::Quadratic => 2,
         },
         _ => 0,
     }

@@ -53,6 +53,9 @@ pub struct Snapshot {
     pub state: State,
     /// The events the last step met.
     pub event: LastEvent,
+    /// The last communication point a step started from: its time and the velocity inputs
+    /// (v, ω) of nodes a and b there (second-order extrapolation takes accelerations from it).
+    pub history: Option<(Real, [[Real; 6]; 2])>,
 }
 
 /// The events the last step met (the outputs event.time and event.count).
@@ -96,6 +99,7 @@ impl Snapshot {
                 time: 0.0,
                 count: 0,
             },
+            history: None,
         }
     }
 }

@@ -4,7 +4,8 @@
 //! and bytes, mode (u8), time and start time (f64), the variant's parameters in table order
 //! (Real f64, Integer i32, Boolean u8), its node inputs in table order (f64), the input
 //! derivatives that are set (u32 mask over the 26 node inputs, then their f64 values), the
-//! connector state, the last step's event record (time f64, count i32), and an FNV-1a 64 checksum of everything before it. Parameters and inputs
+//! connector state, the last step's event record (time f64, count i32), the input history (u8
+//! flag, then time and the 12 velocity inputs as f64 when set), and an FNV-1a 64 checksum of everything before it. Parameters and inputs
 //! are written back through the same checks as fmi2Set*, so a decoded state is one that the
 //! setters could have produced.
 
@@ -187,6 +188,14 @@ pub fn encode(t: &Table, s: &Snapshot) -> Vec<u8> {
     w.fs(&[e.damping, e.stops, st.power[0], st.power[1]]);
     w.f(s.event.time);
     w.0.extend_from_slice(&s.event.count.to_le_bytes());
+    match &s.history {
+        None => w.b(0),
+        Some((t, vel)) => {
+            w.b(1);
+            w.f(*t);
+            vel.iter().for_each(|v| w.fs(v));
+        }
+    }
     let sum = fnv(&w.0);
     w.0.extend_from_slice(&sum.to_le_bytes());
     w.0
@@ -323,6 +332,17 @@ pub fn decode(t: &Table, bytes: &[u8]) -> Result<Snapshot, String> {
     if event_count < 0 {
         return Err(format!("event count {event_count} is negative"));
     }
+    let history = match r.b()? {
+        0 => None,
+        1 => Some((
+            r.f("history time")?,
+            [
+                r.fs::<6>("history velocity")?,
+                r.fs::<6>("history velocity")?,
+            ],
+        )),
+        x => return Err(format!("history flag {x} is not 0 or 1")),
+    };
     if r.at != body.len() {
         return Err(format!("{} unexpected trailing bytes", body.len() - r.at));
     }
@@ -368,5 +388,6 @@ pub fn decode(t: &Table, bytes: &[u8]) -> Result<Snapshot, String> {
             time: event_time,
             count: event_count,
         },
+        history,
     })
 }

@@ -440,6 +440,7 @@ const NONNEG: Range = (Some(0.0), None);
 const POSITIVE: Range = (Some(f64::from_bits(1)), None);
 /// 0 or 1 (Integer switches).
 const ZERO_ONE: Range = (Some(0.0), Some(1.0));
+const ZERO_TWO: Range = (Some(0.0), Some(2.0));
 
 const INF: f64 = f64::INFINITY;
 
@@ -841,7 +842,7 @@ const ROWS: &[Row] = &[
     scalar(616, "friction.stickStiffnessR1", ScalarPar::StickKr, Start::Real(Some(1e4)), "N.m/rad", POSITIVE, "elastic stick stiffness of spin, > 0 (0 is refused)"),
     scalar(617, "friction.maxForce", ScalarPar::MaxForce, Start::Real(Some(INF)), "N", NONNEG, "cap on the sliding friction force, ≥ 0 (+INF = none)"),
     scalar(618, "friction.coupling", ScalarPar::Coupling, Start::Integer(Some(0)), "", ZERO_ONE, "0 separate sliding and spin (Abaqus), 1 coupled: ellipsoidal limit, disc flow (needs friction.R > 0)"),
-    scalar(619, "cosim.extrapolation", ScalarPar::Extrapolation, Start::Integer(Some(1)), "", ZERO_ONE, "input extrapolation over a step: 0 hold, 1 linear"),
+    scalar(619, "cosim.extrapolation", ScalarPar::Extrapolation, Start::Integer(Some(1)), "", ZERO_TWO, "input extrapolation over a step: 0 hold, 1 linear (positions and orientations along the velocities; velocities along their FMI 2.0 input derivatives where set), 2 second order (positions and orientations also along the accelerations; accelerations from the input derivatives of the velocities where set, otherwise from the velocity inputs of the previous communication point)"),
     scalar(620, "cosim.maxSubstep", ScalarPar::MaxSubstep, Start::Real(Some(0.0)), "s", NONNEG, "largest internal substep, ≥ 0 (0: from the path alone)"),
     scalar(621, "friction.stickDamping", ScalarPar::StickC, Start::Real(Some(0.0)), "N.s/m", NONNEG, "stick damping of sliding, parallel to the stick spring, ≥ 0 (0: Abaqus)"),
     scalar(622, "friction.stickDampingR1", ScalarPar::StickCr, Start::Real(Some(0.0)), "N.m.s/rad", NONNEG, "stick damping of spin, parallel to the stick spring, ≥ 0 (0: Abaqus)"),

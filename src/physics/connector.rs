@@ -43,6 +43,10 @@ pub enum Extrapolation {
     /// Nodes move along r + ṙ τ, q ← exp(ω τ)·q.
     #[default]
     Linear,
+    /// Second order: r + ṙ τ + ½ v̇ τ², q ← exp(ω τ + ½ ω̇ τ²)·q, with v̇ and ω̇ from the input
+    /// derivatives of the velocities where given, otherwise from the velocity inputs of the
+    /// previous communication point (the input history; FMI 3.0 has no input derivatives).
+    Quadratic,
 }
 
 /// Connector parameters, per component slot k−1 for the Abaqus component k.

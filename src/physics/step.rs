@@ -21,6 +21,8 @@ pub struct Rates {
     pub dv: Vec3,
     /// ω̇ (rad/s²), from input derivatives; zero otherwise.
     pub dw: Vec3,
+    /// Whether v̇ and ω̇ also move the pose (second order: r + ṙτ + ½v̇τ²).
+    pub second_order: bool,
 }
 
 impl Rates {
@@ -30,6 +32,7 @@ impl Rates {
         dth: Vec3::new(0.0, 0.0, 0.0),
         dv: Vec3::new(0.0, 0.0, 0.0),
         dw: Vec3::new(0.0, 0.0, 0.0),
+        second_order: false,
     };
 
     /// First-order extrapolation from the node's own velocities.
@@ -66,13 +69,51 @@ impl Rates {
             dth,
             dv: v3(7, Vec3::zeros()),
             dw: v3(10, Vec3::zeros()),
+            second_order: false,
         }
+    }
+
+    /// Second-order extrapolation: `linear`, with the accelerations also moving the pose, and
+    /// taken where no input derivative gives them from the velocities `prev` (v, ω) of the
+    /// previous communication point, `dt` before (None: no such point, accelerations zero).
+    pub fn quadratic(
+        n: &Node,
+        q_raw: &[Real],
+        der: &[Real; 13],
+        set: &[bool; 13],
+        prev: Option<(Real, &[Real; 6])>,
+    ) -> Rates {
+        let mut r = Rates::linear(n, q_raw, der, set);
+        r.second_order = true;
+        if let Some((dt, prev)) = prev {
+            let now = [n.v.x, n.v.y, n.v.z, n.w.x, n.w.y, n.w.z];
+            for i in 0..6 {
+                if !set[7 + i] {
+                    let a = (now[i] - prev[i]) / dt;
+                    if i < 3 {
+                        r.dv[i] = a;
+                    } else {
+                        r.dw[i - 3] = a;
+                    }
+                }
+            }
+        }
+        r
     }
 }
 
 /// The node after time τ along its extrapolation (rotations through the exponential map).
 #[inline]
 pub fn extrapolate(n: &Node, rate: &Rates, tau: Real) -> Node {
+    if rate.second_order {
+        let half = 0.5 * tau;
+        return Node {
+            r: n.r + (rate.dr + rate.dv * half) * tau,
+            q: quat_exp(&((rate.dth + rate.dw * half) * tau)) * n.q,
+            v: n.v + rate.dv * tau,
+            w: n.w + rate.dw * tau,
+        };
+    }
     Node {
         r: n.r + rate.dr * tau,
         q: quat_exp(&(rate.dth * tau)) * n.q,
@@ -103,7 +144,11 @@ pub enum StepError {
 
 /// Number of substeps for a step of length `h`.
 pub fn substeps(p: &Params, ra: &Rates, rb: &Rates, h: Real) -> Result<u32, StepError> {
-    let rot = (ra.dth.norm() + rb.dth.norm()) * h / MAX_ROTATION_PER_SUBSTEP;
+    let mut turn = (ra.dth.norm() + rb.dth.norm()) * h;
+    if ra.second_order || rb.second_order {
+        turn += 0.5 * (ra.dw.norm() + rb.dw.norm()) * h * h;
+    }
+    let rot = turn / MAX_ROTATION_PER_SUBSTEP;
     let time = if p.max_substep > 0.0 {
         h / p.max_substep
     } else {
