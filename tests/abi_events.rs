@@ -71,3 +71,53 @@ fn no_event_messages_when_logging_is_off() {
     drive(&f);
     assert!(f.log().is_empty(), "{:?}", f.log());
 }
+
+/// FMI 2.0's event outputs: `event.time` is the first event located in the last step (t + h
+/// when none, the start time before the first step) and `event.count` their number; a master
+/// that rolls back to the step's start and re-steps to `event.time` ends exactly at the event.
+#[test]
+fn fmi2_reports_the_first_event_of_a_step_for_a_rollback_to_it() {
+    use connector_fmu::fmi2::exports::{fmi2FreeFMUstate, fmi2GetFMUstate, fmi2SetFMUstate};
+    let f = Fmu::new(Variant::ProjectionCartesian);
+    f.enter_init();
+    f.set_real_if("stop.upper1", 0.01);
+    f.set_real_if("stop.stiffness", 1e4);
+    f.set_real_if("b.v[1]", 1.0);
+    f.exit_init();
+    let (time, count) = (f.vr("event.time"), f.vr("event.count"));
+    assert_eq!(
+        f.get_reals(&[time]),
+        vec![0.0],
+        "before the first step: the start time"
+    );
+    assert_eq!(f.get_integers(&[count]), vec![0]);
+    let h = 0.004;
+    let mut t = 0.0;
+    let mut saved = std::ptr::null_mut();
+    loop {
+        assert_eq!(fmi2GetFMUstate(f.c, &mut saved), fmi2Status::OK);
+        assert_eq!(f.step(t, h), fmi2Status::OK, "{:?}", f.log());
+        let n = f.get_integers(&[count])[0];
+        let te = f.get_reals(&[time])[0];
+        if n == 0 {
+            assert_eq!(te, t + h, "no event: t + h");
+            t += h;
+            continue;
+        }
+        // contact at x = 0.01 (t = 10 ms), located within 1e-10 of the step past it
+        assert_eq!(n, 1);
+        assert!(te >= 0.01 - 1e-17 && te <= 0.01 + 1e-10 * h + 1e-17, "{te}");
+        // roll back and re-step to the event: the stop engages exactly there
+        assert_eq!(fmi2SetFMUstate(f.c, saved), fmi2Status::OK);
+        assert_eq!(f.step(t, te - t), fmi2Status::OK, "{:?}", f.log());
+        assert_eq!(f.get_integers(&[f.vr("CSLST1"), count]), vec![1, 1]);
+        // located again in the shorter re-step, between the exact time and its end
+        let again = f.get_reals(&[time])[0];
+        assert!(
+            again >= 0.01 - 1e-17 && again <= te,
+            "{again} in [0.01, {te}]"
+        );
+        break;
+    }
+    assert_eq!(fmi2FreeFMUstate(f.c, &mut saved), fmi2Status::OK);
+}

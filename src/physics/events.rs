@@ -160,24 +160,25 @@ pub fn locate<E>(
 ) -> Result<Real, E> {
     let far = side(i, fb);
     // the end replaced by the last probe (Illinois halves the other end's value when the same
-    // end is replaced twice in a row), and the width two probes ago (bisect when false
-    // position does not at least halve the bracket in two probes)
+    // end is replaced twice in a row); bisection when two probes in a row did not halve the
+    // bracket, so that it at least halves every three probes whatever the function
     let mut last_far: Option<bool> = None;
-    let mut widths = [Real::INFINITY; 2];
-    for n in 0..200 {
+    let (mut w_ref, mut since) = (tb - ta, 0);
+    for _ in 0..200 {
         let width = tb - ta;
         if width <= tol {
             break;
         }
+        if width <= 0.5 * w_ref {
+            (w_ref, since) = (width, 0);
+        }
         let secant = tb - fb * width / (fb - fa);
-        let mut t = if n % 2 == 0 && width > 0.5 * widths[0] {
-            0.5 * (ta + tb)
-        } else if secant > ta && secant < tb {
+        let mut t = if since < 2 && secant > ta && secant < tb {
             secant
         } else {
             0.5 * (ta + tb)
         };
-        widths = [widths[1], width];
+        since += 1;
         // at least half a tolerance inside: once false position converges from one side, the
         // next probe lands across the root and closes the bracket
         let margin = 0.5 * tol.min(0.5 * width);
