@@ -806,7 +806,9 @@ def _random_steps(rng, total, lo, hi):
     return hs
 
 
-ALGEBRAIC_EXCLUDE = ("energy.damping", "energy.stops", "energy.friction")
+# not functions of the inputs and the committed state: energies dissipated over the steps taken,
+# and the time of the last step's first event (t + h when none: it differs with the step sizes)
+ALGEBRAIC_EXCLUDE = ("energy.damping", "energy.stops", "energy.friction", "event.time")
 
 
 @pytest.mark.parametrize("variant", ["ProjectionCartesian", "ProjectionFlexionTorsion", "Bushing", "RadialThrust"])
