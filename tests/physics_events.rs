@@ -33,7 +33,8 @@ fn node(r: Vec3, v: Vec3) -> Node {
     }
 }
 
-/// One tracked step from (st, a, b) moving along `ra`, `rb`: (outputs, state, nodes, met).
+/// One tracked step from (st, a, b) moving along `ra`, `rb`: (outputs, state, nodes, met),
+/// with the exact event functions at its start.
 fn tracked_step(
     ct: ConnectionType,
     p: &Params,
@@ -45,6 +46,21 @@ fn tracked_step(
 ) -> (Outputs, State, Node, Met) {
     let (o0, _) = evaluate(ct, p, st, a, b, Eval::Read).expect("regular");
     let start: Values = events::values(ct, p, st, &o0);
+    step_from(ct, p, st, (a, ra), (b, rb), h, stop, (&start, true))
+}
+
+/// One tracked step with the given start values (exact or assumed).
+#[allow(clippy::too_many_arguments)]
+fn step_from(
+    ct: ConnectionType,
+    p: &Params,
+    st: &State,
+    (a, ra): (&Node, &Rates),
+    (b, rb): (&Node, &Rates),
+    h: f64,
+    stop: bool,
+    (start, exact): (&Values, bool),
+) -> (Outputs, State, Node, Met) {
     let mut o = Outputs::default();
     let mut next = State::default();
     let (_, b1, met) = advance_into(
@@ -55,7 +71,8 @@ fn tracked_step(
         (b, rb),
         h,
         Some(Tracking {
-            start: &start,
+            start,
+            exact,
             stop_at_first: stop,
             min_tau: EVENT_TOL * h,
         }),
@@ -263,7 +280,8 @@ fn locate_closes_the_bracket_on_the_far_side() {
     // (function, bracket end, root, most evaluations: a simple root takes few, the triple
     // root of the cubic defeats false position and leans on the bisection safeguard, which
     // halves the bracket at least every three probes: 3·log2(1/tol) ≈ 100)
-    let cases: [(&dyn Fn(f64) -> f64, f64, f64, usize); 4] = [
+    type Case<'a> = (&'a dyn Fn(f64) -> f64, f64, f64, usize);
+    let cases: [Case; 4] = [
         (&|t: f64| t - 0.3, 1.0, 0.3, 3),
         (
             &|t: f64| (t * 3.0).sin() - 0.5,
@@ -286,4 +304,97 @@ fn locate_closes_the_bracket_on_the_far_side() {
         assert!(f(t) > 0.0, "far side");
         assert!(calls <= most, "{calls} evaluations for the root {root}");
     }
+}
+
+/// The sides of `v` as assumed values (±1), as a step starting from the last one's end uses.
+fn sides_of(v: &Values) -> Values {
+    let mut s = *v;
+    for (i, x) in s.iter_mut().enumerate() {
+        if !x.is_nan() {
+            *x = if events::side(i, *x) { 1.0 } else { -1.0 };
+        }
+    }
+    s
+}
+
+#[test]
+fn assumed_sides_give_the_result_of_the_exact_start() {
+    let ct = ct(Variant::ProjectionCartesian);
+    let p = cartesian_stop(0.01);
+    let a = node(Vec3::zeros(), Vec3::zeros());
+    let b = node(Vec3::new(0.008, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0));
+    let st = initial_state(ct, &p, &a, &b).expect("regular");
+    let (ra, rb) = (Rates::HOLD, Rates::from_velocities(&b));
+    let (o0, _) = evaluate(ct, &p, &st, &a, &b, Eval::Read).expect("regular");
+    let exact = events::values(ct, &p, &st, &o0);
+    for stop in [false, true] {
+        let want = step_from(
+            ct,
+            &p,
+            &st,
+            (&a, &ra),
+            (&b, &rb),
+            0.004,
+            stop,
+            (&exact, true),
+        );
+        let got = step_from(
+            ct,
+            &p,
+            &st,
+            (&a, &ra),
+            (&b, &rb),
+            0.004,
+            stop,
+            (&sides_of(&exact), false),
+        );
+        // (Met.end holds NaN for the functions not taking part: compared as bits)
+        assert_eq!((got.0, got.1, got.2), (want.0, want.1, want.2));
+        let bits = |m: &Met| (m.tau, m.count, m.stopped, m.end.map(f64::to_bits));
+        assert_eq!(bits(&got.3), bits(&want.3));
+        assert_eq!(got.3.count, 1);
+    }
+}
+
+#[test]
+fn an_assumed_crossing_is_checked_against_the_exact_start() {
+    // the last step ended before the stop, the importer's inputs put b past it: the sides of
+    // the last end say "free", the exact start says "engaged", the step stays engaged: no event
+    let ct = ct(Variant::ProjectionCartesian);
+    let p = cartesian_stop(0.01);
+    let a = node(Vec3::zeros(), Vec3::zeros());
+    let b = node(Vec3::new(0.0102, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0));
+    let st = initial_state(ct, &p, &a, &b).expect("regular");
+    let (ra, rb) = (Rates::HOLD, Rates::from_velocities(&b));
+    let mut assumed = [f64::NAN; N_EVENTS];
+    assumed[events::STOP_UPPER] = -1.0;
+    let (_, next, _, met) = step_from(
+        ct,
+        &p,
+        &st,
+        (&a, &ra),
+        (&b, &rb),
+        0.004,
+        true,
+        (&assumed, false),
+    );
+    assert_eq!((met.count, met.stopped), (0, false));
+    assert_eq!(next.stop_status[0], 1);
+}
+
+#[test]
+fn far_needs_every_function_beyond_eight_steps_of_change() {
+    let mut end = [f64::NAN; N_EVENTS];
+    let mut before = [f64::NAN; N_EVENTS];
+    end[0] = -0.9;
+    before[0] = -1.0;
+    assert!(events::far(&end, &before), "0.9 away, 0.1 per step");
+    end[0] = -0.7;
+    assert!(!events::far(&end, &before), "0.7 away, 0.3 per step");
+    end[0] = -0.9;
+    end[3] = 0.5;
+    assert!(
+        !events::far(&end, &before),
+        "a function without a value before"
+    );
 }

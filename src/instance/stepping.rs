@@ -57,21 +57,33 @@ impl ModelInstance {
         let (a, b) = self.nodes()?;
         let (ra, rb) = (self.rates(0, &a, t), self.rates(1, &b, t));
         let before = self.wants(Category::Events).then_some(self.s.state);
-        // the event functions at the step's start, from the outputs at its inputs (the cache);
-        // where those cannot be evaluated the step below reports why
-        let start = if events::tracked(self.ct, &self.s.params) {
-            match self.outputs() {
-                Ok(_) => self
-                    .cache
-                    .get()
-                    .map(|o| events::values(self.ct, &self.s.params, &self.s.state, o)),
-                Err(_) => None,
-            }
-        } else {
+        // the event functions at the step's start: from the outputs at its inputs when they are
+        // at hand (the cache) or needed; the sides at the last step's end where every function
+        // is far from its event (`events::far`); where the outputs cannot be evaluated the step
+        // below reports why
+        let start = if !events::tracked(self.ct, &self.s.params) {
             None
+        } else {
+            let assumed = match (&self.event_record, self.cache.get()) {
+                (Some((end, before)), None) if events::far(end, before) => Some(*end),
+                _ => None,
+            };
+            match assumed {
+                Some(end) => Some((end, false)),
+                None => match self.outputs() {
+                    Ok(_) => self.cache.get().map(|o| {
+                        (
+                            events::values(self.ct, &self.s.params, &self.s.state, o),
+                            true,
+                        )
+                    }),
+                    Err(_) => None,
+                },
+            }
         };
-        let track = start.as_ref().map(|start| Tracking {
+        let track = start.as_ref().map(|(start, exact)| Tracking {
             start,
+            exact: *exact,
             stop_at_first: self.early_return,
             // an event within the location tolerance of the start is met there, not stopped
             // at; and the time must move on
@@ -106,6 +118,13 @@ impl ModelInstance {
                 };
                 let o = self.cache.spare();
                 (o.event_time, o.event_count) = (self.s.event.time, self.s.event.count);
+                // the event functions at this step's end, and at the one before (or this step's
+                // exact start) for how far each is from its event
+                self.event_record = match (start, self.event_record) {
+                    (Some((s, true)), _) => Some((met.end, s)),
+                    (Some(_), Some((end, _))) => Some((met.end, end)),
+                    _ => None,
+                };
                 write_node(&mut self.s.inputs[0], &a1);
                 write_node(&mut self.s.inputs[1], &b1);
                 self.s.input_der_set = [[false; 13]; 2];

@@ -104,6 +104,10 @@ impl ModelInstance {
                 FmuError::error(format!("invalid parameter {name}; values not set"))
             })?;
         }
+        if params != self.s.params {
+            // stops and friction parameters move the event functions
+            self.event_record = None;
+        }
         if params != self.s.params || inputs != self.s.inputs {
             self.s.params = params;
             self.s.inputs = inputs;

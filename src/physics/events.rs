@@ -39,6 +39,21 @@ pub const NORMAL_SPIN: usize = 18;
 /// Number of event functions.
 pub const N_EVENTS: usize = 19;
 
+/// A function is far from its event when its value exceeds this many times its change over
+/// the last step: then the importer's next inputs (continuous with the path, to well within a
+/// step's change) cannot have moved it across zero, and its side at the next step's start is
+/// taken from the last step's end without evaluating the connector there (`far`).
+pub const FAR: Real = 8.0;
+
+/// Whether every function taking part at the end of a step (`end`, not NaN) is far from its
+/// event, judged by its change since the end of the step before (`before`): then the next
+/// step may start from `end`'s sides (see `FAR`); otherwise it needs the exact values.
+pub fn far(end: &Values, before: &Values) -> bool {
+    end.iter()
+        .zip(before)
+        .all(|(&e, &b)| e.is_nan() || (e != 0.0 && e.abs() > FAR * (e - b).abs()))
+}
+
 /// Event times are located to this fraction of the communication step (the spec asks for
 /// 1e-9; false position needs few more evaluations for the tenfold margin).
 pub const EVENT_TOL: Real = 1e-10;

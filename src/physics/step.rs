@@ -208,8 +208,13 @@ pub fn advance(
 /// whether the step stops at the first event.
 #[derive(Clone, Copy, Debug)]
 pub struct Tracking<'a> {
-    /// The event functions at τ = 0 (from the outputs at the step's inputs and `st`).
+    /// The event functions at τ = 0: exact (from the outputs at the step's inputs and `st`), or
+    /// assumed (values whose sides are those at τ = 0; see `exact`).
     pub start: &'a Values,
+    /// Whether `start` is exact. Assumed values only decide whether a function changed side
+    /// over the first substep; where one did, the exact values at τ = 0 are evaluated (a read
+    /// at the step's inputs) before anything is located.
+    pub exact: bool,
     /// Stop the step at the first event located at τ ≥ `min_tau` (early return).
     pub stop_at_first: bool,
     /// The shortest step that advances the time (an event closer to the start is stepped
@@ -226,6 +231,8 @@ pub struct Met {
     pub count: u32,
     /// Whether the step stopped at the first event (then it ends at `tau`).
     pub stopped: bool,
+    /// The event functions where the step ended (NaN: not taking part; all NaN untracked).
+    pub end: Values,
 }
 
 /// `advance` writing the outputs and the state at the step's end in place (the per-step path:
@@ -277,6 +284,7 @@ pub fn advance_into(
         tau: h,
         count: 0,
         stopped: false,
+        end: [Real::NAN; events::N_EVENTS],
     };
     // the event functions at the start of the substep
     let mut at_start = track.map(|t| *t.start);
@@ -317,6 +325,13 @@ pub fn advance_into(
         substep(s, (tau0, tau), (&a, &b), o, next)?;
         if let (Some(start), Some(track)) = (at_start.as_mut(), track) {
             let end = values(ct, p, s, o);
+            if j == 1 && !track.exact && crossed(start, &end).next().is_some() {
+                // the assumed sides at τ = 0 say a function crossed: take the exact values
+                let mut at0 = (Outputs::default(), State::default());
+                evaluate_into(ct, p, st, a0, b0, Eval::Read, (&mut at0.0, &mut at0.1))
+                    .map_err(|e| StepError::Singular(e, 0.0))?;
+                *start = values(ct, p, st, &at0.0);
+            }
             let crossed = crossed(start, &end).count() as u32;
             if crossed > 0 && met.count == 0 {
                 // the first substep with events: locate each, the earliest is the first event
@@ -340,6 +355,7 @@ pub fn advance_into(
                     let end = values(ct, p, s, o);
                     met.count = events::crossed(start, &end).count() as u32;
                     met.stopped = true;
+                    met.end = values(ct, p, next, o);
                     return Ok((a, b, met));
                 }
             }
@@ -347,6 +363,9 @@ pub fn advance_into(
             *start = values(ct, p, next, o);
         }
         if j == n {
+            if let Some(end) = at_start {
+                met.end = end;
+            }
             return Ok((a, b, met));
         }
     }
