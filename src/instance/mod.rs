@@ -18,7 +18,6 @@ use crate::model::slots::{real_tables, RealTables};
 use crate::model::snapshot::{NodeInputs, Snapshot};
 use crate::model::variables::{table, Table, Variant};
 use crate::physics::connector::{evaluate_into, Outputs, State};
-use crate::physics::events::Values;
 use crate::physics::friction::Eval;
 use crate::physics::init::initial_state;
 use crate::physics::kinematics::{ConnectionType, Node, Singular};
@@ -135,12 +134,6 @@ pub struct ModelInstance {
     s: Snapshot,
     /// Whether fmi3DoStep stops at the first event (earlyReturnAllowed).
     early_return: bool,
-    /// The event functions at the end of the last step and of the one before (or at the last
-    /// step's exact start): whether the next step needs their exact values at its start
-    /// (`events::far`). Forgotten whenever the state, the parameters or the mode change, so
-    /// that the step after evaluates them; it changes no result while the importer's inputs
-    /// stay continuous (docs/physics.md, "Events").
-    event_record: Option<(Values, Values)>,
     /// Outputs at the current inputs and committed state.
     cache: OutputCache,
 }
@@ -160,7 +153,6 @@ impl ModelInstance {
             fmi: FmiVersion::V2,
             s: Snapshot::start(table),
             early_return: false,
-            event_record: None,
             cache: OutputCache::new(),
         }
     }
@@ -283,8 +275,8 @@ impl ModelInstance {
         }
         self.s.state = st;
         self.s.mode = Mode::StepComplete;
+        self.s.events = None;
         self.cache.clear();
-        self.event_record = None;
         Ok(())
     }
 
@@ -300,7 +292,6 @@ impl ModelInstance {
         self.allowed(Call::Lifecycle)?;
         self.s = Snapshot::start(self.table);
         self.cache.clear();
-        self.event_record = None;
         Ok(())
     }
 
@@ -362,7 +353,6 @@ impl ModelInstance {
         self.own_state(s)?;
         self.s = s.clone();
         self.cache.clear();
-        self.event_record = None;
         Ok(())
     }
 

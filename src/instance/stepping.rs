@@ -4,7 +4,7 @@ use super::ModelInstance;
 use super::{singular_text, Call, FmiVersion};
 use crate::error::{Category, FmuError, FmuResult, Level};
 use crate::model::access::{non_finite_cause, write_node};
-use crate::model::snapshot::{LastEvent, Mode};
+use crate::model::snapshot::{EventRecord, LastEvent, Mode};
 use crate::physics::connector::{Extrapolation, State};
 use crate::physics::events::{self, EVENT_TOL};
 use crate::physics::kinematics::Node;
@@ -64,8 +64,8 @@ impl ModelInstance {
         let start = if !events::tracked(self.ct, &self.s.params) {
             None
         } else {
-            let assumed = match (&self.event_record, self.cache.get()) {
-                (Some((end, before)), None) if events::far(end, before) => Some(*end),
+            let assumed = match (&self.s.events, self.cache.get()) {
+                (Some(r), None) if events::far(&r.end, &r.before) => Some(r.end),
                 _ => None,
             };
             match assumed {
@@ -120,9 +120,15 @@ impl ModelInstance {
                 (o.event_time, o.event_count) = (self.s.event.time, self.s.event.count);
                 // the event functions at this step's end, and at the one before (or this step's
                 // exact start) for how far each is from its event
-                self.event_record = match (start, self.event_record) {
-                    (Some((s, true)), _) => Some((met.end, s)),
-                    (Some(_), Some((end, _))) => Some((met.end, end)),
+                self.s.events = match (start, self.s.events) {
+                    (Some((s, true)), _) => Some(EventRecord {
+                        end: met.end,
+                        before: s,
+                    }),
+                    (Some(_), Some(r)) => Some(EventRecord {
+                        end: met.end,
+                        before: r.end,
+                    }),
                     _ => None,
                 };
                 write_node(&mut self.s.inputs[0], &a1);

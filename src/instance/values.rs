@@ -106,7 +106,7 @@ impl ModelInstance {
         }
         if params != self.s.params {
             // stops and friction parameters move the event functions
-            self.event_record = None;
+            self.s.events = None;
         }
         if params != self.s.params || inputs != self.s.inputs {
             self.s.params = params;

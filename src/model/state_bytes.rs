@@ -5,14 +5,16 @@
 //! (Real f64, Integer i32, Boolean u8), its node inputs in table order (f64), the input
 //! derivatives that are set (u32 mask over the 26 node inputs, then their f64 values), the
 //! connector state, the last step's event record (time f64, count i32), the input history (u8
-//! flag, then time and the 12 velocity inputs as f64 when set), and an FNV-1a 64 checksum of everything before it. Parameters and inputs
+//! flag, then time and the 12 velocity inputs as f64 when set), the event-function record (u8
+//! flag, then twice a u32 mask of the functions taking part and their values), and an FNV-1a 64 checksum of everything before it. Parameters and inputs
 //! are written back through the same checks as fmi2Set*, so a decoded state is one that the
 //! setters could have produced.
 
 use super::access::{read_int_param, read_real_param, write_int, write_real};
-use super::snapshot::{LastEvent, Mode, NodeInputs, Snapshot};
+use super::snapshot::{EventRecord, LastEvent, Mode, NodeInputs, Snapshot};
 use super::variables::{Causality, CompPar, Field, Start, Table};
 use crate::physics::connector::{Energy, State};
+use crate::physics::events::{Values, N_EVENTS};
 use crate::physics::friction::{FrictionState, Status};
 use crate::physics::kinematics::Branches;
 use crate::physics::math::Vec3;
@@ -196,6 +198,18 @@ pub fn encode(t: &Table, s: &Snapshot) -> Vec<u8> {
             vel.iter().for_each(|v| w.fs(v));
         }
     }
+    match &s.events {
+        None => w.b(0),
+        Some(r) => {
+            w.b(1);
+            for v in [&r.end, &r.before] {
+                // the functions taking part (a mask), then their values
+                let mask = (0..N_EVENTS).fold(0u32, |m, i| m | (u32::from(!v[i].is_nan()) << i));
+                w.0.extend_from_slice(&mask.to_le_bytes());
+                v.iter().filter(|x| !x.is_nan()).for_each(|&x| w.f(x));
+            }
+        }
+    }
     let sum = fnv(&w.0);
     w.0.extend_from_slice(&sum.to_le_bytes());
     w.0
@@ -343,6 +357,28 @@ pub fn decode(t: &Table, bytes: &[u8]) -> Result<Snapshot, String> {
         )),
         x => return Err(format!("history flag {x} is not 0 or 1")),
     };
+    let events = match r.b()? {
+        0 => None,
+        1 => {
+            let mut read = || -> Result<Values, String> {
+                let mask = r.u32()?;
+                if mask >> N_EVENTS != 0 {
+                    return Err(format!("event function mask {mask:#x} has unknown bits"));
+                }
+                let mut v = [f64::NAN; N_EVENTS];
+                for (i, x) in v.iter_mut().enumerate() {
+                    if mask & (1 << i) != 0 {
+                        *x = r.f("event function")?;
+                    }
+                }
+                Ok(v)
+            };
+            let end = read()?;
+            let before = read()?;
+            Some(EventRecord { end, before })
+        }
+        x => return Err(format!("event record flag {x} is not 0 or 1")),
+    };
     if r.at != body.len() {
         return Err(format!("{} unexpected trailing bytes", body.len() - r.at));
     }
@@ -389,5 +425,6 @@ pub fn decode(t: &Table, bytes: &[u8]) -> Result<Snapshot, String> {
             count: event_count,
         },
         history,
+        events,
     })
 }
