@@ -1,6 +1,7 @@
 //! The consistent tangent where a slipping step ended: the directional derivative of the
 //! friction force along the slip is the slip branch's (0 for a 1-D slide at constant μ), not
-//! the average of the stick and slip sides of the kink (k_s/2); in stick it is k_s.
+//! the average of the stick and slip sides of the kink (k_s/2); in stick it is k_s, also on the
+//! limit at rest (the spring holds there until the motion loads it further).
 
 mod common;
 use common::Fmu;
@@ -29,9 +30,8 @@ fn tangent_is_the_slip_branch_where_a_slipping_step_ended() {
     // slide 1 mm along e2 in one step (elastic range μN/k_s = 40 µm): slipping
     f.set_real_if("b.v[2]", 1.0);
     assert_eq!(f.step(0.0, 1e-3), fmi2Status::OK);
-    f.set_real_if("b.v[2]", 0.0);
     let status = f.get_integers(&[f.vr("friction.status")])[0];
-    assert_eq!(status, 2, "slipping");
+    assert_eq!(status, 2, "slipping, the slide going on");
     let along = slope(&f, "CSF2", "b.r[2]");
     assert!(
         along.abs() < 1e-6 * k_s,
@@ -41,4 +41,13 @@ fn tangent_is_the_slip_branch_where_a_slipping_step_ended() {
     // where the step ended the trial is on the limit, L/|trial| = 1
     let across = slope(&f, "CSF3", "b.r[3]");
     assert!((across - k_s).abs() < 1e-6 * k_s, "across: {across}");
+    // brought to rest there, the spring holds at the limit: stick, and its stiffness
+    f.set_real_if("b.v[2]", 0.0);
+    let status = f.get_integers(&[f.vr("friction.status")])[0];
+    assert_eq!(status, 1, "at rest on the limit");
+    let along = slope(&f, "CSF2", "b.r[2]");
+    assert!(
+        (along - k_s).abs() < 1e-6 * k_s,
+        "stick tangent at rest: {along}"
+    );
 }

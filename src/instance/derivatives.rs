@@ -4,7 +4,7 @@ use super::{Call, ModelInstance};
 use crate::error::{FmuError, FmuResult};
 use crate::model::access::{read_output, Ty};
 use crate::model::variables::{Causality, Field, Variability};
-use crate::physics::friction::{Eval, Status};
+use crate::physics::friction::Eval;
 use crate::physics::math::Real;
 
 impl ModelInstance {
@@ -38,10 +38,10 @@ impl ModelInstance {
     /// inputs and committed state: the connector's consistent tangent (stick: stick stiffness;
     /// slip: tangent of the return map; active stops and penalties included).
     ///
-    /// A friction effect that slips at the current inputs (trial force on or beyond its limit)
-    /// is differentiated on its slip branch (`Eval::Tangent`), so the derivative where a
-    /// slipping step ended is the return map's slip tangent, not the average of the stick and
-    /// slip sides of the kink.
+    /// A friction effect is differentiated on the branch of its status at the current inputs
+    /// (`Eval::Tangent`): where a slipping step ended, the return map's slip tangent; where an
+    /// effect sticks (also held at rest on its limit), the stick spring's; never the average of
+    /// the stick and slip sides of the kink.
     /// Computed as the central difference of the kernel's output function along dknown,
     /// (y(u + εδ) − y(u − εδ))/(2ε), ε = 1e-8·max(1, |u|)/|δ|: truncation O((ε/ℓ)²) with ℓ the
     /// smallest length over which the response bends (an elastic stick slip of µm still gives
@@ -80,7 +80,7 @@ impl ModelInstance {
         let eps = 1e-8 * scale;
         // effects slipping at the current inputs are differentiated on their slip branch
         let here = self.outputs()?.friction;
-        let mode = Eval::Tangent([here.status == Status::Slip, here.status_r1 == Status::Slip]);
+        let mode = Eval::Tangent([here.status, here.status_r1]);
         let shifted = |sign: Real| {
             let mut u = self.s.inputs;
             for (&vr, &d) in knowns.iter().zip(dknown) {

@@ -16,10 +16,11 @@ pub enum Eval {
     Step(Real),
     /// The outputs at the current inputs: the μ of the last committed return map.
     Read,
-    /// The consistent tangent: as `Read`, and the effects marked (sliding, spin) stay on their
-    /// limit (the slip branch of the return map): those that slip at the point where the
-    /// derivative is taken, so that it does not straddle the stick/slip kink there.
-    Tangent([bool; 2]),
+    /// The consistent tangent: as `Read`, each effect (sliding, spin) on the branch of the
+    /// return map of its status at the point where the derivative is taken: a slipping one stays
+    /// on its limit, a sticking one stays elastic (also on the limit at rest), so that the
+    /// derivative does not straddle the stick/slip kink there.
+    Tangent([Status; 2]),
     /// The start of the run (end of initialization), from a state with no elastic slip: the
     /// stick dampers see the initial rates; where their force exceeds the friction limit the
     /// excess is a plastic slip *rate* (the limit of a substep h → 0: no slip is taken, no
@@ -234,7 +235,10 @@ pub fn update(
     let stepping = h.is_finite();
     let start = mode == Eval::Start;
     // the slip branch of the return map, for the consistent tangent of a slipping effect
-    let on_limit = |effect: usize| matches!(mode, Eval::Tangent(slip) if slip[effect]);
+    let on_limit = |effect: usize| match mode {
+        Eval::Tangent(branch) => Some(branch[effect]),
+        _ => None,
+    };
     let (f_nc, m_nr1) = normal_loads(p, reaction[0], reaction[1], reaction[2]);
     let mut next = *st;
     if !p.enabled() {
@@ -288,7 +292,8 @@ pub fn update(
         next.mu_rate = [v, v];
         let limit = (p.mu(v) * f_nc).min(p.max_force);
         let norm = (f_tr[0] * f_tr[0] + f_tr[1] * f_tr[1] + (m_tr / rho) * (m_tr / rho)).sqrt();
-        let (scale, status) = return_status(norm, limit, f_nc, on_limit(0));
+        let loading = rate[0] * f_tr[0] + rate[1] * f_tr[1] + rate[2] * m_tr > 0.0;
+        let (scale, status) = return_status(norm, limit, f_nc, (on_limit(0), loading));
         next.status = status;
         next.status_r1 = status;
         if scale == 1.0 {
@@ -309,8 +314,16 @@ pub fn update(
         let v_r = speed_for(st.status_r1, spin, st.mu_rate[1]);
         next.mu_rate = [v, v_r];
         let limit = (p.mu(v) * f_nc).min(p.max_force);
-        let (scale, status) = return_status(norm2(f_tr[0], f_tr[1]), limit, f_nc, on_limit(0));
-        let (scale_r, status_r) = return_status(m_tr.abs(), p.mu(v_r) * m_nr1, m_nr1, on_limit(1));
+        let loading = rate[0] * f_tr[0] + rate[1] * f_tr[1] > 0.0;
+        let (scale, status) =
+            return_status(norm2(f_tr[0], f_tr[1]), limit, f_nc, (on_limit(0), loading));
+        let loading_r = rate[2] * m_tr > 0.0;
+        let (scale_r, status_r) = return_status(
+            m_tr.abs(),
+            p.mu(v_r) * m_nr1,
+            m_nr1,
+            (on_limit(1), loading_r),
+        );
         next.status = status;
         next.status_r1 = status_r;
         ([f_tr[0] * scale, f_tr[1] * scale], m_tr * scale_r)
@@ -529,17 +542,30 @@ fn disc_flow_return(
 /// Relative band around the friction limit that counts as "on the limit".
 pub const ON_LIMIT: Real = 1e-9;
 
-/// Scale factor onto the limit and the status for a trial magnitude.
+/// Scale factor onto the limit and the status for a trial magnitude; `branch`: the status
+/// whose branch of the return map a tangent evaluation keeps; `loading`: whether the relative
+/// velocity runs along the trial force (its power is positive).
 #[inline]
-fn return_status(trial: Real, limit: Real, normal: Real, on_limit: bool) -> (Real, Status) {
-    if on_limit && normal > 0.0 && trial > 0.0 {
-        return (limit / trial, Status::Slip);
+fn return_status(
+    trial: Real,
+    limit: Real,
+    normal: Real,
+    (branch, loading): (Option<Status>, bool),
+) -> (Real, Status) {
+    // the tangent's branch: a slipping effect on its limit, a sticking one elastic
+    match branch {
+        Some(Status::Slip) if normal > 0.0 && trial > 0.0 => return (limit / trial, Status::Slip),
+        Some(Status::Stick) if normal > 0.0 => return (1.0, Status::Stick),
+        _ => {}
     }
-    // On the limit within round-off counts as slip, with no further return: re-evaluating the
-    // connector where a slip step ended puts the trial force back on the limit (to round-off,
-    // either side), and that is the same slip with the same force.
+    // On the limit within round-off there is no further return: re-evaluating the connector
+    // where a slip step ended puts the trial force back on the limit (to round-off, either
+    // side), and that is the same slip with the same force while the motion goes on along it;
+    // at rest or moving back, the spring holds: stick (the slip → stick event function is
+    // this same power, docs/physics.md "Events").
     if normal > 0.0 && (trial - limit).abs() <= ON_LIMIT * limit {
-        return (1.0, Status::Slip);
+        let status = if loading { Status::Slip } else { Status::Stick };
+        return (1.0, status);
     }
     if trial <= limit {
         let s = if normal > 0.0 {
@@ -707,7 +733,7 @@ mod tests {
             [-10.0, 0.0, 0.0],
             inside,
             [0.0; 3],
-            Eval::Tangent([true, false]),
+            Eval::Tangent([Status::Slip, Status::Stick]),
         );
         assert!(read.force[0] < 5.0 - 1e-3, "read: elastic unloading");
         assert!(

@@ -270,7 +270,7 @@ def test_puck_slip_to_stick_times(H, route):
           f"master rejections {r.rejected}, events {[e.time for e in r.events]}")
     assert err_v <= REL and err_w <= REL
     assert r.rejected == 0
-    # each effect slips until its own event (what it reads afterwards: the xfail test below)
+    # each effect slips until its own event (what it reads afterwards: the test below)
     assert r.status_before(t_w)[1] == 2 and r.status_before(t_v)[0] == 2
     # the other events are the elastic stick springs' breakaways right after the start (the
     # puck starts sticking at t = 0; μ m g / (k_stick v0) ≈ 3e-6 s): nothing else
@@ -278,16 +278,11 @@ def test_puck_slip_to_stick_times(H, route):
     assert all(t < 1e-4 for t in others), others
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "FMU: after its slip -> stick event the puck is held at rest with the stick spring loaded at "
-    "the limit, and src/physics/friction.rs return_status counts a trial force within 1e-9 of "
-    "the limit as slip: friction.status and friction.statusR1 read 2 (slip) at every "
-    "communication point after t_v and t_w, in both routes (measured at H = 1 ms, end of run: "
-    "(2, 2))"))
 @pytest.mark.parametrize("route", list(ROUTES))
 def test_puck_reads_stick_after_each_stop(route):
     """SCENES §4: each motion stops at its time and stays stopped: with the puck at rest after
-    both stops, both friction effects must read stick (1)."""
+    both stops, both friction effects must read stick (1) -- the stick springs hold at the
+    limit, and on the limit an effect slips only while its slip velocity runs along the force."""
     path = Puck(extrapolation=2)
     r = drive(route, path, 1e-3)
     assert r.statuses[-1][1] == (1, 1), r.statuses[-1]
