@@ -1,10 +1,11 @@
 //! A short deterministic replay of the `fmi_calls` fuzz harness inside `cargo test`: the same
 //! program interpreter and invariants as the libFuzzer target (`fuzz/harness.rs`), run on
 //!
-//! - every committed seed in `fuzz/seeds/fmi_calls/` (the inputs of the findings fixed so far,
-//!   `regression_<NNN>_*`), and
-//! - a fixed set of pseudo-random programs (LCG, fixed seed), half of them behind a prefix that
-//!   initialises a connector with every parameter set and runs steps, so the kernel is reached.
+//! - every committed seed in `fuzz/seeds/fmi_calls/` (lifecycle skeletons and the inputs of the
+//!   findings fixed so far, `regression_<NNN>_*`), and
+//! - a fixed set of pseudo-random programs (LCG, fixed seed), FMI 2.0 and FMI 3.0 alike, half
+//!   of them behind a prefix that initialises a connector with every parameter set and runs
+//!   steps, so the kernel is reached (FMI 3.0: with earlyReturnAllowed on and off).
 //!
 //! The long, coverage-guided run is `scripts/fuzz` (not CI). `FMI_FUZZ_TRACE=1` prints what
 //! each program does.
@@ -33,15 +34,30 @@ impl Lcg {
     }
 }
 
+/// Which interface a program drives.
+#[derive(Clone, Copy, Debug)]
+enum Mode {
+    Fmi2,
+    /// FMI 3.0 with earlyReturnAllowed as given.
+    Fmi3 {
+        early_return: bool,
+    },
+}
+
 /// Header + ops that instantiate variant `v`, enter initialization, set every parameter to a
 /// plausible value (the byte layout follows the harness decoder exactly, from the variable
 /// table), set a plausible motion, and leave initialization. The program continues at random.
-fn prefix(v: usize, rng: &mut Lcg) -> Vec<u8> {
+fn prefix(v: usize, mode: Mode, rng: &mut Lcg) -> Vec<u8> {
     let variant = VARIANTS[v].variant;
     let t = table(variant);
-    // header: variant selector, flags (valid name and type, logging off), logger present
-    let mut p = vec![v as u8, 0, 0];
-    p.extend([0, 9]); // instance 0: fmi2EnterInitializationMode
+    let mut p = match mode {
+        // header: variant selector, flags (valid name and type, logging off), logger present
+        Mode::Fmi2 => vec![v as u8, 0, 0],
+        // mode byte, variant selector, flags (valid name, eventModeUsed = false, logging off),
+        // options (earlyReturnAllowed, no required intermediate variables, logger present)
+        Mode::Fmi3 { early_return } => vec![harness::FMI3_MODE, v as u8, 0, u8::from(early_return)],
+    };
+    p.extend([0, 9]); // instance 0: Enter Initialization Mode (op codes equal in both versions)
     p.extend([0, 6]); // instance 0: parameter set
     for var in t
         .vars
@@ -69,7 +85,7 @@ fn prefix(v: usize, rng: &mut Lcg) -> Vec<u8> {
             .count();
         p.extend((0..2 * plain).map(|_| rng.byte()));
     }
-    p.extend([0, 10]); // fmi2ExitInitializationMode
+    p.extend([0, 10]); // Exit Initialization Mode
     for _ in 0..3 {
         // a run of four steps: h = 1e-3·(1 + 4·byte/255), t = the FMU's time
         p.extend([0, 31, 3]);
@@ -102,22 +118,37 @@ fn committed_seeds_replay_clean() {
 fn pseudo_random_programs_keep_the_invariants() {
     let started = Instant::now();
     let mut rng = Lcg(0x5eed_f00d);
+    let mut count = [0usize; 2];
     for i in 0..PROGRAMS {
         let len = 16 + (rng.next() % 600) as usize;
-        let mut data = if i % 2 == 0 {
-            prefix(i / 2 % 5, &mut rng)
+        // i mod 4: FMI 2.0 / FMI 3.0 behind a prefix, FMI 2.0 / FMI 3.0 from scratch
+        let fmi3 = i % 2 == 1;
+        let mode = if fmi3 {
+            Mode::Fmi3 {
+                early_return: i % 8 < 4,
+            }
         } else {
-            Vec::new()
+            Mode::Fmi2
+        };
+        let mut data = if i % 4 < 2 {
+            prefix(i / 4 % 5, mode, &mut rng)
+        } else if fmi3 {
+            vec![harness::FMI3_MODE | rng.byte()]
+        } else {
+            vec![rng.byte() % harness::FMI3_MODE]
         };
         data.extend((0..len).map(|_| rng.byte()));
+        count[usize::from(fmi3)] += 1;
         let r = std::panic::catch_unwind(|| harness::run(&data));
         assert!(
             r.is_ok(),
-            "program {i} violates an invariant; bytes: {data:?}"
+            "program {i} ({mode:?}) violates an invariant; bytes: {data:?}"
         );
     }
     println!(
-        "{PROGRAMS} programs in {:.2} s",
+        "{PROGRAMS} programs ({} FMI 2.0, {} FMI 3.0) in {:.2} s",
+        count[0],
+        count[1],
         started.elapsed().as_secs_f64()
     );
 }
