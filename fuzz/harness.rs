@@ -50,6 +50,11 @@ use connector_fmu::variables::{table, Causality, Start, Variability, Variant, VA
 use std::ffi::{c_char, c_int, c_void, CStr, CString};
 use std::marker::PhantomData;
 use std::ptr::{null, null_mut};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// Early returns seen (FMI 3.0 DoSteps that stopped at an event), over all programs run in
+/// this process: the smoke replay checks that its programs reach them.
+pub static EARLY_RETURNS: AtomicUsize = AtomicUsize::new(0);
 
 // ------------------------------------------------------------------ logger
 
@@ -752,6 +757,7 @@ impl<'a, A: Api> Program<'a, A> {
             None => (false, now.unwrap_or(f64::NAN)),
         };
         if early {
+            EARLY_RETURNS.fetch_add(1, Ordering::Relaxed);
             if !early_allowed {
                 self.fail(format!(
                     "{} returned early without earlyReturnAllowed",
