@@ -259,14 +259,13 @@ pub fn advance_into(
 ) -> Result<(Node, Node, Met), StepError> {
     let n = substeps(p, ra, rb, h)?;
     let dt = h / n as Real;
-    // one substep from `s` at τ0 to the nodes (a, b) at τ: evaluation, dissipated energies,
-    // finite outputs
+    // one substep of length dt from `s` to the nodes (a, b) at τ: evaluation, dissipated
+    // energies, finite outputs
     let substep = |s: &State,
-                   (tau0, tau): (Real, Real),
+                   (tau, dt): (Real, Real),
                    (a, b): (&Node, &Node),
                    o: &mut Outputs,
                    next: &mut State| {
-        let dt = tau - tau0;
         evaluate_into(ct, p, s, a, b, Eval::Step(dt), (&mut *o, &mut *next))
             .map_err(|e| StepError::Singular(e, tau))?;
         // trapezoidal rule on the dissipation powers
@@ -322,7 +321,7 @@ pub fn advance_into(
             shafts_prev = shafts;
         }
         let s: &State = if j == 1 { st } else { prev.insert(*next) };
-        substep(s, (tau0, tau), (&a, &b), o, next)?;
+        substep(s, (tau, dt), (&a, &b), o, next)?;
         if let (Some(start), Some(track)) = (at_start.as_mut(), track) {
             let end = values(ct, p, s, o);
             if j == 1 && !track.exact && crossed(start, &end).next().is_some() {
@@ -340,7 +339,8 @@ pub fn advance_into(
                 for i in events::crossed(start, &end) {
                     let at = |t: Real| {
                         let (a, b) = nodes(t);
-                        substep(s, (tau0, t), (&a, &b), &mut scratch.0, &mut scratch.1)?;
+                        let part = (t, t - tau0);
+                        substep(s, part, (&a, &b), &mut scratch.0, &mut scratch.1)?;
                         Ok::<_, StepError>(values(ct, p, s, &scratch.0)[i])
                     };
                     let root = locate(i, (tau0, start[i]), (tau, end[i]), EVENT_TOL * h, at)?;
@@ -350,7 +350,7 @@ pub fn advance_into(
                 if track.stop_at_first && first >= track.min_tau && (first < tau || j < n) {
                     if first < tau {
                         (a, b) = nodes(first);
-                        substep(s, (tau0, first), (&a, &b), o, next)?;
+                        substep(s, (first, first - tau0), (&a, &b), o, next)?;
                     }
                     let end = values(ct, p, s, o);
                     met.count = events::crossed(start, &end).count() as u32;
