@@ -30,7 +30,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from cosim import sweep as engine  # noqa: E402
-from cosim.master import EV_METHODS, FMI3_SUFFIX, METHODS, label, split_method  # noqa: E402
+from cosim.master import EV_METHODS, FMI3_SUFFIX, METHODS, split_method  # noqa: E402
+from cosim.master import label as method_label  # noqa: E402
 from cosim.scenes import SCENES  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
@@ -141,7 +142,7 @@ def plot(scene, rows, path):
             if ok:
                 x = [r["cpu_s"] for r in ok]
                 y = [r[key] for r in ok]
-                name = label(method) + (f", θ = {scene.theta:g}" if base.startswith("linear_implicit") else "")
+                name = method_label(method) + (f", θ = {scene.theta:g}" if base.startswith("linear_implicit") else "")
                 ax.loglog(x, y, color=color, marker=marker, ms=5 if version == 2 else 9,
                           lw=1.5 if version == 2 else 0, mfc=None if version == 2 else "none",
                           ls="-" if base in METHODS else "--", label=name)
@@ -149,7 +150,7 @@ def plot(scene, rows, path):
                     ax.annotate(fmt_h(r["H"]), (xi, yi), textcoords="offset points", xytext=(4, 3),
                                 fontsize=6.5, color=color)
             else:
-                ax.plot([], [], color=color, marker=marker, label=label(method) + " (no result)")
+                ax.plot([], [], color=color, marker=marker, label=method_label(method) + " (no result)")
             bad = [r for r in rs if r["failed"] or not np.isfinite(r[key])]
             if bad and key == "error":
                 notes.append(f"{method}: no result at H = " + ", ".join(fmt_h(r["H"]) for r in bad))
@@ -165,6 +166,39 @@ def plot(scene, rows, path):
     fig.tight_layout(rect=(0, 0.02 + 0.022 * len(notes), 1, 0.93))
     fig.savefig(path, dpi=120)
     plt.close(fig)
+
+
+ORDER_RANGE = (1e-4, 2e-3)       # the H range of the convergence orders (s)
+
+
+def convergence_orders(out, scenes=None):
+    """Convergence order per scene and method from out/wp_<scene>.csv: the least-squares slope of
+    log(error) against log(H) over the runs with a result and H in ORDER_RANGE (at least 3 of
+    them, else blank). Written to out/wp_orders.csv and returned as rows."""
+    rows = []
+    for path in sorted(Path(out).glob("wp_*.csv")):
+        name = path.stem[3:]
+        if name == "orders" or (scenes and name not in scenes):
+            continue
+        with open(path) as f:
+            data = list(csv.DictReader(f))
+        for method in dict.fromkeys(r["method"] for r in data):
+            pts = [(float(r["H"]), float(r["error"])) for r in data if r["method"] == method
+                   and not r["failed"] and r["error"] not in ("", "nan")
+                   and ORDER_RANGE[0] * 0.999 <= float(r["H"]) <= ORDER_RANGE[1] * 1.001
+                   and math.isfinite(float(r["error"])) and float(r["error"]) > 0]
+            order = ""
+            if len(pts) >= 3:
+                x = np.log([h for h, _ in pts])
+                y = np.log([e for _, e in pts])
+                order = f"{np.polyfit(x, y, 1)[0]:.2f}"
+            rows.append({"scene": name, "method": method, "points": len(pts), "order": order,
+                         "H_range": f"{ORDER_RANGE[0]:g}-{ORDER_RANGE[1]:g}"})
+    with open(Path(out) / "wp_orders.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=["scene", "method", "points", "order", "H_range"])
+        w.writeheader()
+        w.writerows(rows)
+    return rows
 
 
 def add_engine_args(ap):
@@ -193,9 +227,15 @@ def main(argv=None):
     ap.add_argument("--out", default=str(REPO / "out"))
     ap.add_argument("--quick", action="store_true")
     add_engine_args(ap)
+    ap.add_argument("--orders-only", action="store_true",
+                    help="only compute out/wp_orders.csv from the CSVs already in --out")
     args = ap.parse_args(argv)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
+    if args.orders_only:
+        for r in convergence_orders(out):
+            print(f"  {r['scene']:15s} {r['method']:26s} order {r['order'] or '-':>5s} ({r['points']} points)")
+        return
     per_scene = {name: tasks(SCENES[name], args.quick) for name in args.scenes}
     for name in args.scenes:
         print(f"==> {name}: {SCENES[name].title}")
@@ -205,6 +245,8 @@ def main(argv=None):
     for name, ts in per_scene.items():
         finish(name, ts, results[i:i + len(ts)], out)
         i += len(ts)
+    convergence_orders(out)
+    print(f"  wrote {out / 'wp_orders.csv'}")
 
 
 if __name__ == "__main__":
