@@ -52,6 +52,8 @@ def main(argv=None):
         work_precision.finish(name, ts, results[i:i + len(ts)], out)
         i += len(ts)
     stability_map.finish(sm, results[i:], out)
+    work_precision.convergence_orders(out)
+    print(f"  wrote {out / 'wp_orders.csv'} (convergence orders, H = 0.1-2 ms)")
 
 
 if __name__ == "__main__":

@@ -30,14 +30,34 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from cosim import sweep as engine  # noqa: E402
-from cosim.master import LABELS, METHODS  # noqa: E402
+from cosim.master import EV_METHODS, FMI3_SUFFIX, METHODS, split_method  # noqa: E402
+from cosim.master import label as method_label  # noqa: E402
 from cosim.scenes import SCENES  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
 STYLE = {"zoh": ("C3", "o"), "extrapolation": ("C1", "s"), "linear_implicit": ("C0", "D"),
-         "rollback": ("C2", "^")}
-FIXED = ["scene", "method", "H", "steps", "cpu_s", "us_per_step", "fmi_calls", "rollback_passes",
-         "failed", "error", "error2"]
+         "rollback": ("C2", "^"), "extrapolation_ev": ("C5", "v"), "linear_implicit_ev": ("C4", "P"),
+         "linear_exact_ev": ("C6", "*")}
+# scenes with events (stops, stick/slip): the event-located methods run there, at EV_SWEEP's steps
+# (the scene's sweep from 10 ms to 0.1 ms), and through FMI 3.0 (early return) at FMI3_SWEEP
+EVENT_SCENES = ("belt", "puck0", "bounce")
+EV_SWEEP = {"belt": (1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4),
+            "puck0": (1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4),
+            "bounce": (1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5, 1e-5)}
+FMI3_SWEEP = (1e-2, 1e-3, 1e-4)
+
+
+def methods_of(scene, quick=False):
+    """[(method, [H, ...])] of one scene's chart."""
+    Hs = scene.sweep[:-2] if quick else scene.sweep
+    out = [(m, Hs) for m in METHODS]
+    if scene.name in EVENT_SCENES:
+        ev = EV_SWEEP[scene.name][:-2] if quick else EV_SWEEP[scene.name]
+        out += [(m, ev) for m in EV_METHODS]
+        out += [(m + FMI3_SUFFIX, [H for H in FMI3_SWEEP if H in ev]) for m in EV_METHODS]
+    return out
+FIXED = ["scene", "method", "H", "steps", "cpu_s", "us_per_step", "fmi_calls", "calls_per_step",
+         "rollback_passes", "events", "failed", "error", "error2"]
 
 
 def fmt_h(H):
@@ -48,7 +68,6 @@ def fmt_h(H):
 def tasks(scene, quick=False):
     """The runs of one scene's chart (method outer, H inner), preceded by the scene's fine
     reference run when it has one (belt: error2); the runs wait for it."""
-    Hs = scene.sweep[:-2] if quick else scene.sweep
     sha = engine.fmu_ref(scene.variant)["sha256"]
     out, needs = [], None
     if getattr(scene, "fine", None):
@@ -56,10 +75,12 @@ def tasks(scene, quick=False):
         out.append(engine.make_task("reference", scene.name, method, H, variant=scene.variant,
                                     fmu_sha=sha, cost=engine.run_cost(scene, method, H)))
         needs = out[0]["spec"]["key"]
-    for method in METHODS:
+    for method, Hs in methods_of(scene, quick):
+        variant = scene.variant if split_method(method)[1] == 2 else f"fmi3/{scene.variant}"
+        msha = sha if variant == scene.variant else engine.fmu_ref(variant)["sha256"]
         for H in Hs:
-            out.append(engine.make_task("run", scene.name, method, H, variant=scene.variant,
-                                        fmu_sha=sha, needs=needs,
+            out.append(engine.make_task("run", scene.name, method, H, variant=variant,
+                                        fmu_sha=msha, needs=needs,
                                         cost=engine.run_cost(scene, method, H)))
     return out
 
@@ -86,7 +107,9 @@ def chart_rows(scene, tasks, results):
         steps = r.get("steps") or 0
         row = {"scene": scene.name, "method": s["method"], "H": s["H"], "steps": steps,
                "cpu_s": r.get("cpu_s", np.nan), "us_per_step": 1e6 * (r.get("cpu_s") or 0) / max(steps, 1),
-               "fmi_calls": r.get("fmi_calls"), "rollback_passes": r.get("rollback_passes"),
+               "fmi_calls": r.get("fmi_calls"),
+               "calls_per_step": (r.get("fmi_calls") or 0) / max(steps, 1),
+               "rollback_passes": r.get("rollback_passes"),
                "failed": r["message"] if r["status"] != "ok" else "",
                "error": fig.get("error", np.nan), "error2": fig.get("error2", np.nan)}
         row.update({k: v for k, v in fig.items() if k not in row})
@@ -111,20 +134,23 @@ def plot(scene, rows, path):
     fig, axes = plt.subplots(1, len(panels), figsize=(7.5 * len(panels), 6.0), squeeze=False)
     notes = []
     for ax, (key, label) in zip(axes[0], panels):
-        for method in METHODS:
+        for method in dict.fromkeys(r["method"] for r in rows):
+            base, version = split_method(method)
             rs = [r for r in rows if r["method"] == method]
             ok = [r for r in rs if not r["failed"] and np.isfinite(r[key]) and r[key] > 0]
-            color, marker = STYLE[method]
+            color, marker = STYLE[base]
             if ok:
                 x = [r["cpu_s"] for r in ok]
                 y = [r[key] for r in ok]
-                name = LABELS[method] + (f", θ = {scene.theta:g}" if method == "linear_implicit" else "")
-                ax.loglog(x, y, color=color, marker=marker, ms=5, lw=1.5, label=name)
+                name = method_label(method) + (f", θ = {scene.theta:g}" if base.startswith("linear_implicit") else "")
+                ax.loglog(x, y, color=color, marker=marker, ms=5 if version == 2 else 9,
+                          lw=1.5 if version == 2 else 0, mfc=None if version == 2 else "none",
+                          ls="-" if base in METHODS else "--", label=name)
                 for r, xi, yi in zip(ok, x, y):
                     ax.annotate(fmt_h(r["H"]), (xi, yi), textcoords="offset points", xytext=(4, 3),
                                 fontsize=6.5, color=color)
             else:
-                ax.plot([], [], color=color, marker=marker, label=LABELS[method] + " (no result)")
+                ax.plot([], [], color=color, marker=marker, label=method_label(method) + " (no result)")
             bad = [r for r in rs if r["failed"] or not np.isfinite(r[key])]
             if bad and key == "error":
                 notes.append(f"{method}: no result at H = " + ", ".join(fmt_h(r["H"]) for r in bad))
@@ -132,7 +158,7 @@ def plot(scene, rows, path):
         ax.set_ylabel("relative error")
         ax.set_title(label, fontsize=9)
         ax.grid(True, which="both", alpha=0.25)
-        ax.legend(fontsize=8, loc="best")
+        ax.legend(fontsize=7, loc="best")
     fig.suptitle(f"Work-precision, {scene.title}\nt_end = {scene.t_end:g} s; "
                  f"points labelled by the macro step H [s]", fontsize=11)
     if notes:
@@ -140,6 +166,39 @@ def plot(scene, rows, path):
     fig.tight_layout(rect=(0, 0.02 + 0.022 * len(notes), 1, 0.93))
     fig.savefig(path, dpi=120)
     plt.close(fig)
+
+
+ORDER_RANGE = (1e-4, 2e-3)       # the H range of the convergence orders (s)
+
+
+def convergence_orders(out, scenes=None):
+    """Convergence order per scene and method from out/wp_<scene>.csv: the least-squares slope of
+    log(error) against log(H) over the runs with a result and H in ORDER_RANGE (at least 3 of
+    them, else blank). Written to out/wp_orders.csv and returned as rows."""
+    rows = []
+    for path in sorted(Path(out).glob("wp_*.csv")):
+        name = path.stem[3:]
+        if name == "orders" or (scenes and name not in scenes):
+            continue
+        with open(path) as f:
+            data = list(csv.DictReader(f))
+        for method in dict.fromkeys(r["method"] for r in data):
+            pts = [(float(r["H"]), float(r["error"])) for r in data if r["method"] == method
+                   and not r["failed"] and r["error"] not in ("", "nan")
+                   and ORDER_RANGE[0] * 0.999 <= float(r["H"]) <= ORDER_RANGE[1] * 1.001
+                   and math.isfinite(float(r["error"])) and float(r["error"]) > 0]
+            order = ""
+            if len(pts) >= 3:
+                x = np.log([h for h, _ in pts])
+                y = np.log([e for _, e in pts])
+                order = f"{np.polyfit(x, y, 1)[0]:.2f}"
+            rows.append({"scene": name, "method": method, "points": len(pts), "order": order,
+                         "H_range": f"{ORDER_RANGE[0]:g}-{ORDER_RANGE[1]:g}"})
+    with open(Path(out) / "wp_orders.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=["scene", "method", "points", "order", "H_range"])
+        w.writeheader()
+        w.writerows(rows)
+    return rows
 
 
 def add_engine_args(ap):
@@ -168,9 +227,15 @@ def main(argv=None):
     ap.add_argument("--out", default=str(REPO / "out"))
     ap.add_argument("--quick", action="store_true")
     add_engine_args(ap)
+    ap.add_argument("--orders-only", action="store_true",
+                    help="only compute out/wp_orders.csv from the CSVs already in --out")
     args = ap.parse_args(argv)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
+    if args.orders_only:
+        for r in convergence_orders(out):
+            print(f"  {r['scene']:15s} {r['method']:26s} order {r['order'] or '-':>5s} ({r['points']} points)")
+        return
     per_scene = {name: tasks(SCENES[name], args.quick) for name in args.scenes}
     for name in args.scenes:
         print(f"==> {name}: {SCENES[name].title}")
@@ -180,6 +245,8 @@ def main(argv=None):
     for name, ts in per_scene.items():
         finish(name, ts, results[i:i + len(ts)], out)
         i += len(ts)
+    convergence_orders(out)
+    print(f"  wrote {out / 'wp_orders.csv'}")
 
 
 if __name__ == "__main__":

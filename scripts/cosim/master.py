@@ -33,11 +33,13 @@ from pathlib import Path
 import numpy as np
 from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import fmi2FMUstate, fmi2Integer, fmi2Real, fmi2ValueReference
+from fmpy.fmi3 import FMU3Slave, fmi3Boolean, fmi3Float64, fmi3ValueReference
 
 from . import driver
 
 REPO = Path(__file__).resolve().parents[2]
 DIST = Path(os.environ.get("COSIM_DIST", REPO / "dist"))     # the FMUs (default: dist/)
+FMI3 = "fmi3"                     # the FMI 3.0 FMUs are DIST/fmi3/<variant>.fmu
 
 
 class CosimFailure(RuntimeError):
@@ -66,6 +68,7 @@ class Connector(driver.Connector):
     `out_names`: the outputs it reads each step (buffer `y`)."""
 
     _count = 0
+    version = 2
 
     def __init__(self, variant, params, init_inputs, in_names, out_names, unzipdir=None):
         model_description(variant)
@@ -92,6 +95,8 @@ class Connector(driver.Connector):
         self._setDer, self._doStep = s.fmi2SetRealInputDerivatives, s.fmi2DoStep
         self._dd, self._get, self._set = (s.fmi2GetDirectionalDerivative, s.fmi2GetFMUstate,
                                           s.fmi2SetFMUstate)
+        self.ev_vr = (fmi2ValueReference * 1)(self.vr["event.time"])
+        self.ev_buf = (fmi2Real * 1)()
         self.calls = 0          # FMI calls made through the per-step paths
 
     # --- per-step calls (prepared buffers only) ------------------------------------------------
@@ -111,6 +116,12 @@ class Connector(driver.Connector):
     def do_step(self, t, H, no_rollback=True):
         self._doStep(self.c, t, H, no_rollback)
         self.calls += 1
+
+    def event_time(self):
+        """`event.time`: the first event in the last step (t + h when none)."""
+        self._getReal(self.c, self.ev_vr, 1, self.ev_buf)
+        self.calls += 1
+        return self.ev_buf[0]
 
     def directional(self, seed):
         """J·seed: derivatives of the outputs along `seed` (over the written inputs)."""
@@ -135,6 +146,128 @@ class Connector(driver.Connector):
         if self.s is not None:
             if self.state:
                 self.s.freeFMUstate(self.state)
+            self.s.terminate()
+            self.s.freeInstance()
+            self.s = None
+
+
+_UNZIPPED3: dict = {}
+
+
+class Connector3(Connector):
+    """The same connector over the FMI 3.0 FMU (DIST/fmi3/<variant>.fmu, fmpy FMU3Slave), with the
+    same prepared buffers and per-step calls. FMI 3.0 has no input derivatives (`set_rates` does
+    nothing: the FMU extrapolates the nodes itself, `cosim.extrapolation`). With
+    `early_return` (earlyReturnAllowed) `do_step_early` stops at the first event inside the step."""
+
+    version = 3
+
+    def __init__(self, variant, params, init_inputs, in_names, out_names, unzipdir=None,
+                 early_return=True):
+        path = Path(DIST) / FMI3 / f"{variant}.fmu"
+        try:
+            md = driver._read(str(path))
+        except FileNotFoundError:
+            raise SystemExit(f"error: {path} is missing; run ./scripts/run first") from None
+        if unzipdir is None:
+            if str(path) not in _UNZIPPED3:
+                import tempfile
+                from fmpy import extract
+                _UNZIPPED3[str(path)] = extract(str(path), tempfile.mkdtemp(prefix=f"cosim3-{variant}-"))
+            unzipdir = _UNZIPPED3[str(path)]
+        self.variant, self.t = variant, 0.0
+        self.vr = self.v = {v.name: v for v in md.modelVariables}
+        Connector._count += 1
+        s = FMU3Slave(guid=md.guid, unzipDirectory=str(unzipdir),
+                      modelIdentifier=md.coSimulation.modelIdentifier,
+                      instanceName=f"{variant}-3-{Connector._count}")
+        s.instantiate(earlyReturnAllowed=early_return)
+        self.s, self.c = s, s.component
+        s.enterInitializationMode(startTime=0.0)
+        self.set(params)
+        self.set(init_inputs)
+        s.exitInitializationMode()
+        nin, nout = len(in_names), len(out_names)
+        self.nin, self.nout = nin, nout
+        self.vin = (fmi3ValueReference * nin)(*[self.vr[n].valueReference for n in in_names])
+        self.vout = (fmi3ValueReference * nout)(*[self.vr[n].valueReference for n in out_names])
+        self.xin, self.yout = (fmi3Float64 * nin)(), (fmi3Float64 * nout)()
+        self.din = (fmi3Float64 * nin)()
+        self.seed_c, self.dd_c = (fmi3Float64 * nin)(), (fmi3Float64 * nout)()
+        self.x, self.y, self.d = (np.ctypeslib.as_array(b) for b in (self.xin, self.yout, self.din))
+        self.seed, self.dd = np.ctypeslib.as_array(self.seed_c), np.ctypeslib.as_array(self.dd_c)
+        self.ev_vr = (fmi3ValueReference * 1)(self.vr["event.time"].valueReference)
+        self.ev_buf = (fmi3Float64 * 1)()
+        self._flags = [fmi3Boolean() for _ in range(3)]
+        self._last = fmi3Float64()
+        self._flag_refs = [ctypes.byref(f) for f in self._flags] + [ctypes.byref(self._last)]
+        self.state = None
+        self.calls = 0
+
+    def set(self, values):
+        """Parameters and inputs by name (set-up, not per step), through the FMI 3.0 setters."""
+        for name, val in values.items():
+            v = self.vr[name]
+            {"Float64": lambda r, x: self.s.setFloat64(r, [float(x)]),
+             "Int32": lambda r, x: self.s.setInt32(r, [int(x)]),
+             "Boolean": lambda r, x: self.s.setBoolean(r, [bool(x)])}[v.type]([v.valueReference], val)
+
+    def value(self, name):
+        v = self.vr[name]
+        return {"Float64": self.s.getFloat64, "Int32": self.s.getInt32,
+                "Boolean": self.s.getBoolean}[v.type]([v.valueReference])[0]
+
+    def set_inputs(self):
+        self.s.fmi3SetFloat64(self.c, self.vin, self.nin, self.xin, self.nin)
+        self.calls += 1
+
+    def get_outputs(self):
+        self.s.fmi3GetFloat64(self.c, self.vout, self.nout, self.yout, self.nout)
+        self.calls += 1
+        return self.y
+
+    def set_rates(self):
+        """No input derivatives in FMI 3.0."""
+
+    def do_step_early(self, t, H):
+        """fmi3DoStep; returns (earlyReturn, lastSuccessfulTime)."""
+        self.s.fmi3DoStep(self.c, t, H, fmi3Boolean(True), *self._flag_refs)
+        self.calls += 1
+        return bool(self._flags[2].value), self._last.value
+
+    def do_step(self, t, H, no_rollback=True):
+        early, last = self.do_step_early(t, H)
+        if early:
+            raise CosimFailure(f"fmi3DoStep returned early at t = {last!r} in a method without "
+                               "event location")
+
+    def event_time(self):
+        self.s.fmi3GetFloat64(self.c, self.ev_vr, 1, self.ev_buf, 1)
+        self.calls += 1
+        return self.ev_buf[0]
+
+    def directional(self, seed):
+        self.seed[:] = seed
+        self.s.fmi3GetDirectionalDerivative(self.c, self.vout, self.nout, self.vin, self.nin,
+                                            self.seed_c, self.nin, self.dd_c, self.nout)
+        self.calls += 1
+        return self.dd
+
+    def save(self):
+        if self.state is None:
+            self.state = self.s.getFMUState()
+        else:
+            self.s.fmi3GetFMUState(self.c, ctypes.byref(self.state))
+        self.calls += 1
+
+    def restore(self):
+        self.s.fmi3SetFMUState(self.c, self.state)
+        self.calls += 1
+
+    def close(self):
+        if self.s is not None:
+            if self.state is not None:
+                self.s.freeFMUState(self.state)
             self.s.terminate()
             self.s.freeInstance()
             self.s = None
@@ -381,6 +514,7 @@ class Coupled:
         self.K, self.D = np.zeros((n, n)), np.zeros((n, n))
         self.theta, self.tol, self.max_iter = theta, tol, max_iter
         self.iterations = 0          # rollback iterations in total
+        self.events = 0              # steps cut at an event (event-located methods)
 
     def put_state(self, t, p, u):
         """Inputs = node a at t, node b = the body at (p, u)."""
@@ -486,11 +620,174 @@ def rollback(c, t, H):
     c.p, c.u = p1, u1
 
 
+# =================================================================================================
+# event-located methods: the FMU steps first, along its own extrapolation, and stops at the first
+# event; the master then advances its body to exactly where the FMU got
+# =================================================================================================
+EXTRAPOLATION_EV = 2     # cosim.extrapolation of the event-located methods (second order)
+
+
+def step_fmu(c, t, H):
+    """Advance the FMU from t (inputs already set at t) by at most H along its own extrapolation
+    and stop at the first event inside the step; return the time reached.
+
+    FMI 3.0: fmi3DoStep with earlyReturnAllowed; at an event it returns early and the FMU's
+    time, state and outputs are at lastSuccessfulTime.
+    FMI 2.0: fmi2GetFMUstate before the step; if `event.time` < t + H, fmi2SetFMUstate and
+    step again with h = event.time − t (the same extrapolated path from the same inputs and
+    history, so the event now lies at the end of the step and the FMU commits it there).
+    Both routes walk the same path and stop at the same located event (FMU: to 1e-10 of the
+    step), so they give the same run."""
+    f = c.fmu
+    if f.version == 3:
+        early, last = f.do_step_early(t, H)
+        if early:
+            c.events += 1
+            return last
+        return t + H
+    f.save()
+    f.do_step(t, H, no_rollback=False)
+    te = f.event_time()
+    if te < t + H:
+        f.restore()
+        f.do_step(t, te - t)
+        c.events += 1
+        return te
+    return t + H
+
+
+def expm(A):
+    """exp(A) of a small matrix: scaling and squaring of the Taylor series (degree 18 after
+    scaling to norm <= 1/2: truncation < 1e-22 relative)."""
+    nrm = float(np.max(np.sum(np.abs(A), axis=1)))
+    k = max(0, math.ceil(math.log2(nrm / 0.5))) if nrm > 0.5 else 0
+    B = A / (2.0 ** k)
+    E, T = np.eye(len(A)), np.eye(len(A))
+    for i in range(1, 19):
+        T = T @ B / i
+        E = E + T
+    for _ in range(k):
+        E = E @ E
+    return E
+
+
+def _stable_part(X):
+    """X without the unstable part of its symmetric part (eigenvalues > 0 set to 0): a negative
+    stiffness or damping of the tangent (the exponential friction decay at breakaway gives
+    ∂F/∂v = +μ_s−μ_k times N d_c) is left to the load's secant instead of being integrated
+    exponentially over the step."""
+    S = 0.5 * (X + X.T)
+    w, V = np.linalg.eigh(S)
+    if np.all(w <= 0.0):
+        return X
+    return X - (V * np.maximum(w, 0.0)) @ V.T
+
+
+def _linearise(c, t, H):
+    """Q0 at (t, p, u) and the affine model of the load over [t, t + H]:
+    Q(s, p, u) ≈ Q0 + K (p − p0) + D (u − u0) + g s (s = time since t), with K, D the FMU's
+    directional derivatives at the predictor (t + H, p0 + H u0, u0) plus the body's own, and g
+    such that the model also meets the load evaluated at the predictor (so it carries the
+    moving node a and the nonlinearity over the step). Trial evaluations only: the FMU is
+    left with its inputs at (t, p0, u0), nothing committed."""
+    b, p, u = c.body, c.p, c.u
+    c.put_state(t, p, u)
+    Q0 = c.load() + b.ext(t, p, u)
+    pp = b.retract(p, H * u)
+    c.put_state(t + H, pp, u)
+    Qp = c.load() + b.ext(t + H, pp, u)
+    K, D = c.jacobian(t + H, pp, u)
+    c.put_state(t, p, u)
+    return Q0, Qp, K.copy(), D.copy()
+
+
+def extrapolation_ev(c, t, H):
+    """Input extrapolation, event-located: read F(t); the FMU steps along its own second-order
+    extrapolation (r + vτ + ½v̇τ², v̇ from the previous communication point) to t + H or the
+    first event t_e; the body is integrated to the same time with the load ramped from F(t) to
+    the FMU's F there (explicit)."""
+    c.put_state(t, c.p, c.u)
+    Q0 = c.load()
+    t1 = step_fmu(c, t, H)
+    Q1 = c.load()
+    c.p, c.u = c.body.advance(t, c.p, c.u, Q0, Q1, t1 - t)
+    return t1
+
+
+def linear_implicit_ev(c, t, H):
+    """Linear-implicit, event-located: linearise first (trial evaluations), then the FMU steps
+    along its own extrapolation to t + H or the first event; a θ-step on the velocity over the
+    step actually made, h = t1 − t, with the affine load model (F_pred at t + h =
+    Q0 + h (K u0 + g)): (M − θhD − ½θh²K) Δv = h((1 − θ)Q0 + θF_pred), x += h(v + ½Δv)."""
+    th, b = c.theta, c.body
+    Q0, Qp, K, D = _linearise(c, t, H)
+    t1 = step_fmu(c, t, H)
+    h = t1 - t
+    g = (Qp - Q0 - K @ (H * c.u)) / H
+    Qh = Q0 + h * (K @ c.u + g)
+    # the position follows the velocity by the trapezoidal rule, x += h (v + ½Δv), as the FMU's
+    # second-order path does (x + vτ + ½v̇τ²): with θ Δv in it (as `linear_implicit`) the body
+    # would end ½v̇h² off the path the FMU committed its friction along, and an elastic slip
+    # state (μN/k_s = 3 µm on the puck) would unload by k_s times that at the next step
+    A = b.mass(c.p) - th * h * D - 0.5 * th * h * h * K
+    du = np.linalg.solve(A, h * ((1.0 - th) * Q0 + th * Qh))
+    c.p, c.u = b.retract(c.p, h * (c.u + 0.5 * du)), c.u + du
+    return t1
+
+
+def linear_exact_ev(c, t, H):
+    """Linear-implicit, second order between events: the same linearisation and event location
+    as `linear_implicit_ev`, but the body is integrated exactly (matrix exponential) under the
+    affine load model M u' = Q0 + K (p − p0) + D (u − u0) + g s over h = t1 − t. Exact for a
+    linear connector (spring-damper, a stop in contact, a stick spring), stable at any H for a
+    stable tangent (unstable parts of K, D are left to the secant g, `_stable_part`); with a
+    nonlinear load its local error is O(h³) (the model meets the load at both ends)."""
+    b, p, u = c.body, c.p, c.u
+    Q0, Qp, K, D = _linearise(c, t, H)
+    Ks, Ds = _stable_part(K), _stable_part(D)
+    g = (Qp - Q0 - Ks @ (H * u)) / H
+    t1 = step_fmu(c, t, H)
+    h = t1 - t
+    n = b.n
+    Minv = np.linalg.inv(b.mass(p))
+    A = np.zeros((2 * n + 2, 2 * n + 2))      # w = (Δp, u, 1, s)
+    A[:n, n:2 * n] = np.eye(n)
+    A[n:2 * n, :n] = Minv @ Ks
+    A[n:2 * n, n:2 * n] = Minv @ Ds
+    A[n:2 * n, 2 * n] = Minv @ (Q0 - Ds @ u)
+    A[n:2 * n, 2 * n + 1] = Minv @ g
+    A[2 * n + 1, 2 * n] = 1.0
+    w0 = np.concatenate((np.zeros(n), u, [1.0, 0.0]))
+    w = expm(A * h) @ w0
+    c.p, c.u = b.retract(p, w[:n]), w[n:2 * n]
+    return t1
+
+
 METHODS = {"zoh": zoh, "extrapolation": extrapolation, "linear_implicit": linear_implicit,
            "rollback": rollback}
+EV_METHODS = {"extrapolation_ev": extrapolation_ev, "linear_implicit_ev": linear_implicit_ev,
+              "linear_exact_ev": linear_exact_ev}
+ALL_METHODS = {**METHODS, **EV_METHODS}
 LABELS = {"zoh": "explicit, zero-order hold", "extrapolation": "explicit, input extrapolation",
           "linear_implicit": "linear-implicit (directional derivatives)",
-          "rollback": "iterative with rollback"}
+          "rollback": "iterative with rollback",
+          "extrapolation_ev": "input extrapolation, event-located",
+          "linear_implicit_ev": "linear-implicit, event-located",
+          "linear_exact_ev": "linear-exact (exponential), event-located"}
+FMI3_SUFFIX = "@fmi3"       # method@fmi3: the same method through the FMI 3.0 FMU (early return)
+
+
+def split_method(method):
+    """'linear_exact_ev@fmi3' -> ('linear_exact_ev', 3); 'zoh' -> ('zoh', 2)."""
+    if method.endswith(FMI3_SUFFIX):
+        return method[:-len(FMI3_SUFFIX)], 3
+    return method, 2
+
+
+def label(method):
+    base, version = split_method(method)
+    return LABELS[base] + (", FMI 3.0 early return" if version == 3 else
+                           (", FMI 2.0 rollback to event.time" if base in EV_METHODS else ""))
 
 
 class Result:
@@ -503,48 +800,67 @@ class Result:
 
 def simulate(scene, method, H, t_end=None, unzipdir=None, record=None, fail_ok=True):
     """Run `scene` with `method` at macro step H up to t_end (default scene.t_end). `record`:
-    names of extra Real outputs to sample at every communication point (slow path)."""
+    names of extra Real outputs to sample at every communication point (slow path).
+    `method` may end in "@fmi3": the FMI 3.0 FMU (dist/fmi3/) instead of the FMI 2.0 one.
+    Event-located methods cut a step at the first event: the samples are then at the
+    communication points actually reached (the next step starts at the event, with H again;
+    the last step ends at t_end)."""
     t_end = scene.t_end if t_end is None else t_end
+    base, version = split_method(method)
     N = int(round(t_end / H))
     body = scene.body()
     params = dict(scene.params)
-    params["cosim.extrapolation"] = 0 if method == "zoh" else 1
-    fmu = Connector(scene.variant, params, scene.init_inputs(), body.in_names,
-                    body.load_names + list(record or []), unzipdir=unzipdir)
+    params["cosim.extrapolation"] = (0 if base == "zoh" else
+                                     EXTRAPOLATION_EV if base in EV_METHODS else 1)
+    cls = Connector3 if version == 3 else Connector
+    fmu = cls(scene.variant, params, scene.init_inputs(), body.in_names,
+              body.load_names + list(record or []), unzipdir=unzipdir)
     try:
         scene.after_init(fmu)
-        c = Coupled(body, fmu, *scene.initial_state(), **scene.method_options(method))
-        step = METHODS[method]
+        c = Coupled(body, fmu, *scene.initial_state(), **scene.method_options(base))
+        step = ALL_METHODS[base]
         nr = len(record or [])
-        P, U = np.empty((N + 1, c.p.size)), np.empty((N + 1, body.n))
-        X = np.empty((N + 1, nr))
-        P[0], U[0] = c.p, c.u
-        failed, t = None, 0.0
+        T, P, U, X = [0.0], [c.p.copy()], [c.u.copy()], []
+        failed, t, i = None, 0.0, 0
         if nr:
             c.put_state(0.0, c.p, c.u)
-            X[0] = fmu.get_outputs()[body.n:]
+            X.append(fmu.get_outputs()[body.n:].copy())
         cpu, clock = 0.0, time.process_time
-        for i in range(N):
+        while True:
+            # fixed steps land on (i + 1) H as before; after an event, steps of H from there
+            if c.events == 0:
+                if i >= N:
+                    break
+                h, t_next = H, (i + 1) * H
+            else:
+                if t >= t_end * (1 - 1e-12):
+                    break
+                h = min(H, t_end - t)
+                t_next = t + h
             c0 = clock()
             try:
-                step(c, t, H)
+                r = step(c, t, h)
             except (FMICallException, CosimFailure, np.linalg.LinAlgError) as e:
-                failed = f"t = {t:.6g}: {e}"
+                failed, r = f"t = {t:.6g}: {e}", None
             cpu += clock() - c0
-            t = (i + 1) * H
+            t = t_next if r is None else r
+            i += 1
             if failed is None and not (np.all(np.isfinite(c.p)) and np.all(np.isfinite(c.u))
                                        and np.max(np.abs(c.u)) < scene.blowup):
                 failed = f"t = {t:.6g}: state blew up"
             if failed is not None:
-                P, U, X = P[:i + 1], U[:i + 1], X[:i + 1]
                 if not fail_ok:
                     raise CosimFailure(failed)
                 break
-            P[i + 1], U[i + 1] = c.p, c.u
+            T.append(t)
+            P.append(c.p.copy())
+            U.append(c.u.copy())
             if nr:   # monitored outputs at the body state (direct feedthrough, not committed)
                 c.put_state(t, c.p, c.u)
-                X[i + 1] = fmu.get_outputs()[body.n:]
-        return Result(t=H * np.arange(len(P)), p=P, u=U, extra=X, cpu=cpu, steps=len(P) - 1,
-                      calls=fmu.calls, iterations=c.iterations, failed=failed, H=H, method=method)
+                X.append(fmu.get_outputs()[body.n:].copy())
+        X = np.array(X) if nr else np.empty((len(P), 0))
+        return Result(t=np.array(T), p=np.array(P), u=np.array(U), extra=X, cpu=cpu,
+                      steps=len(P) - 1, calls=fmu.calls, iterations=c.iterations,
+                      events=c.events, failed=failed, H=H, method=method)
     finally:
         fmu.close()

@@ -16,8 +16,8 @@ import numpy as np
 
 from fmpy.fmi1 import FMICallException
 
-from .master import (METHODS, AxesBody, Connector, CosimFailure, Coupled, RigidBody, quat_exp,
-                     quat_log)
+from .master import (ALL_METHODS, EV_METHODS, EXTRAPOLATION_EV, AxesBody, Connector, CosimFailure,
+                     Coupled, RigidBody, expm, quat_exp, quat_log)
 
 G = 9.81
 IDENTITY = {"w": 1.0, "x": 0.0, "y": 0.0, "z": 0.0}
@@ -553,12 +553,13 @@ class OneStepMap:
         self.osc = Oscillator(zeta=zeta, **kw)
         body = self.osc.body()
         params = dict(self.osc.params)
-        params["cosim.extrapolation"] = 0 if method == "zoh" else 1
+        params["cosim.extrapolation"] = (0 if method == "zoh" else
+                                         EXTRAPOLATION_EV if method in EV_METHODS else 1)
         self.fmu = Connector(self.osc.variant, params, self.osc.init_inputs(), body.in_names,
                              body.load_names, unzipdir=unzipdir)
         self.c = Coupled(body, self.fmu, *self.osc.initial_state(), **self.osc.method_options(method))
         self.s0 = self.fmu.s.getFMUstate()
-        self.step = METHODS[method]
+        self.step = ALL_METHODS[method]
         self.evaluations = 0
 
     def __call__(self, h):
@@ -594,6 +595,13 @@ def amplification(method, h, zeta, theta=1.0):
             Q1 = Q0
         elif method == "extrapolation":
             Q1 = F(x + h * v + h * h / 2 * Q0, v + h * Q0)
+        elif method == "linear_exact_ev":      # exact for the linear connector
+            cols.append(tuple(expm(np.array([[0.0, h], [-h, -2 * zeta * h]])) @ [x, v]))
+            continue
+        elif method == "linear_implicit_ev":     # velocity θ-step, position trapezoidal (g = 0)
+            du = h * ((1 - theta) * Q0 + theta * F(x + h * v, v)) / (1 + theta * h * 2 * zeta + theta * h * h / 2)
+            cols.append((x + h * (v + du / 2), v + du))
+            continue
         elif method == "linear_implicit":
             du = h * ((1 - theta) * Q0 + theta * F(x + h * v, v)) / (1 + theta * h * 2 * zeta + theta ** 2 * h * h)
             cols.append((x + h * (v + theta * du), v + du))

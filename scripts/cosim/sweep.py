@@ -38,7 +38,7 @@ from pathlib import Path
 import numpy as np
 
 from . import master as _master
-from .master import METHODS, simulate
+from .master import ALL_METHODS, METHODS, simulate, split_method
 from .scenes import SCENES, OneStepMap, largest_stable, spectral_radius
 
 PACKAGE_DIR = Path(__file__).resolve().parent
@@ -97,8 +97,9 @@ def make_scene(name, settings=None, fmu=None):
 def coerce_setting(scene_name, key, value):
     """A grid value for scene setting `key` in the type of the scene's own value."""
     if key == "method":
-        if value not in METHODS:
-            raise ValueError(f"unknown method {value!r}; known: {', '.join(METHODS)}")
+        if split_method(value)[0] not in ALL_METHODS:
+            raise ValueError(f"unknown method {value!r}; known: {', '.join(ALL_METHODS)} "
+                             "(event-located ones also as METHOD@fmi3)")
         return value
     if key == "H":
         return float(value)
@@ -166,7 +167,7 @@ def _plugin_class():
                 done = _os.path.join(d, ".installed")
                 if _os.path.exists(done):
                     continue                               # extracted once per worker
-                _os.makedirs(d, exist_ok=True)
+                _os.makedirs(_os.path.dirname(_os.path.join(d, f"{variant}.fmu")), exist_ok=True)
                 with open(_os.path.join(d, f"{variant}.fmu"), "wb") as f:
                     f.write(data)
                 with _zipfile.ZipFile(_os.path.join(d, f"{variant}.fmu")) as zf:
@@ -209,8 +210,9 @@ def _installed(ref):
             path = Path(ref["path"])
             if hashlib.sha256(path.read_bytes()).hexdigest() != sha:
                 raise RuntimeError(f"{path} changed during the sweep")
-            _LOCAL_EXTRACTED[sha] = (str(path.parent), extract(
-                str(path), tempfile.mkdtemp(prefix=f"sweep-{ref['variant']}-")))
+            # the dist directory: variant "fmi3/Planar" lives in <dist>/fmi3/Planar.fmu
+            _LOCAL_EXTRACTED[sha] = (str(path.parents[len(Path(ref["variant"]).parts) - 1]), extract(
+                str(path), tempfile.mkdtemp(prefix=f"sweep-{Path(ref['variant']).name}-")))
         return _LOCAL_EXTRACTED[sha]
     d = Path(worker.local_directory) / "connector-fmus" / ref["sha256"]
     for _ in range(600):
@@ -268,6 +270,7 @@ def _task_run(spec, unzipdir, reference):
     if res.failed:
         row["status"], row["message"] = "failed", res.failed
     row["figures"] = _figures_of(res, scene)
+    row["figures"]["events"] = int(getattr(res, "events", 0))
     return row
 
 
@@ -601,13 +604,14 @@ def _execute_dask(todo, scheduler, refs, done, finished, workers):
 # =================================================================================================
 # the command: ./scripts/sweep SCENE NAME=VALUES ... [--scheduler ...] [--out FILE.csv]
 # =================================================================================================
-METHOD_COST = {"zoh": 1.0, "extrapolation": 1.5, "linear_implicit": 3.0, "rollback": 4.0}
+METHOD_COST = {"zoh": 1.0, "extrapolation": 1.5, "linear_implicit": 3.0, "rollback": 4.0,
+               "extrapolation_ev": 1.5, "linear_implicit_ev": 3.5, "linear_exact_ev": 6.0}
 
 
 def run_cost(scene, method, H):
     """A rough relative cost (FMU steps weighted by the method's calls per step), to start the
     longest tasks first."""
-    return scene.t_end / H * METHOD_COST.get(method, 1.0)
+    return scene.t_end / H * METHOD_COST.get(split_method(method)[0], 1.0)
 
 
 def split_values(text):
