@@ -54,6 +54,11 @@ impl ModelInstance {
                 self.s.time
             )));
         }
+        if !(t + h).is_finite() {
+            return Err(FmuError::error(format!(
+                "the step's end currentCommunicationPoint + communicationStepSize = {t:?} + {h:?} is not finite"
+            )));
+        }
         let (a, b) = self.nodes()?;
         let (ra, rb) = (self.rates(0, &a, t), self.rates(1, &b, t));
         let before = self.wants(Category::Events).then_some(self.s.state);
@@ -104,6 +109,10 @@ impl ModelInstance {
         ) {
             Ok((a1, b1, met)) => {
                 if self.s.params.extrapolation == Extrapolation::Quadratic {
+                    // the accelerations of the next step come from this step's start, also
+                    // across an event (a body's acceleration is continuous where a friction
+                    // effect or a stop elsewhere changes; where the event changes it, an FMI 2.0
+                    // importer can give it as input derivatives)
                     let vel = |n: usize| {
                         let x = &self.s.inputs[n];
                         [x[7], x[8], x[9], x[10], x[11], x[12]]

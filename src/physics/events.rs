@@ -7,6 +7,7 @@
 //! | `STOP_UPPER + k`, `STOP_LOWER + k` | stop of component k+1 engages (> 0) or lets go (≤ 0) | penetration c − upper, lower − c |
 //! | `STICK_SLIP + e` | effect e (sliding, spin) breaks away | trial force minus its limit (≥ 0: slips) |
 //! | `SLIP_STICK + e` | effect e stops slipping | slip rate along the friction force, v·f (≤ 0: the slip reverses) |
+//! | `STOP_FORCE + k` | an engaged damped stop's force lets go (clipped: it never pulls) | k·p + c·ṗ |
 //! | `NORMAL_AXIAL`, `NORMAL_SLIDE`, `NORMAL_SPIN` | the normal force of friction vanishes | CRF1; F_C + F_C^int; M_R1 + M_R1^int |
 //!
 //! A function takes part in a substep when the state the substep starts from makes it
@@ -36,8 +37,11 @@ pub const NORMAL_AXIAL: usize = 16;
 pub const NORMAL_SLIDE: usize = 17;
 /// M_R1 + M_R1^int changes sign (a negative preload).
 pub const NORMAL_SPIN: usize = 18;
+/// First stop-force function (one per component slot): an engaged damped stop's force
+/// k·p + c·ṗ, which lets go (the force is clipped, it never pulls) before the penetration p does.
+pub const STOP_FORCE: usize = 19;
 /// Number of event functions.
-pub const N_EVENTS: usize = 19;
+pub const N_EVENTS: usize = 25;
 
 /// A function is far from its event when its value exceeds this many times its change over
 /// the last step: then the importer's next inputs (continuous with the path, to well within a
@@ -97,6 +101,15 @@ pub fn values(ct: ConnectionType, p: &Params, st: &State, o: &Outputs) -> Values
         if p.stop_lower[k].is_finite() {
             v[STOP_LOWER + k] = p.stop_lower[k] - o.cp[k];
         }
+        // an engaged damped stop: its unclipped force, on the side it is engaged
+        let (ks, cs) = p.stop.for_slot(k);
+        if cs > 0.0 {
+            v[STOP_FORCE + k] = match st.stop_status[k] {
+                1 => ks * (o.cp[k] - p.stop_upper[k]) + cs * o.cv[k],
+                -1 => ks * (p.stop_lower[k] - o.cp[k]) - cs * o.cv[k],
+                _ => Real::NAN,
+            };
+        }
     }
     if ct.rot != Rotational::Revolute || !p.friction.enabled() {
         return v;
@@ -105,18 +118,16 @@ pub fn values(ct: ConnectionType, p: &Params, st: &State, o: &Outputs) -> Values
     let fs = &st.friction;
     let (pos, rate) = ([o.cp[1], o.cp[2], o.cp[3]], [o.cv[1], o.cv[2], o.cv[3]]);
     let coupled = f.coupling == 1;
-    let statuses = [
-        fs.status,
-        if coupled {
-            Status::NoNormal
-        } else {
-            fs.status_r1
-        },
-    ];
-    if statuses.contains(&Status::Stick) {
+    // an effect without normal force sticks as soon as one appears (at the step's start when
+    // the importer's inputs load it): its breakaway is a stick → slip event too; coupled, the
+    // sliding functions stand for both
+    let statuses = [fs.status, fs.status_r1];
+    let sticks =
+        |e: usize| (e == 0 || !coupled) && matches!(statuses[e], Status::Stick | Status::NoNormal);
+    if sticks(0) || sticks(1) {
         let phi = stick_slip_function(f, fs, pos, rate, (o.friction.cnf, o.friction.cnm1));
         for e in 0..2 {
-            if statuses[e] == Status::Stick {
+            if sticks(e) {
                 v[STICK_SLIP + e] = phi[e];
             }
         }
@@ -127,7 +138,7 @@ pub fn values(ct: ConnectionType, p: &Params, st: &State, o: &Outputs) -> Values
     if statuses[0] == Status::Slip {
         v[SLIP_STICK] = if coupled { slide + spin } else { slide };
     }
-    if statuses[1] == Status::Slip {
+    if statuses[1] == Status::Slip && !coupled {
         v[SLIP_STICK + 1] = spin;
     }
     // the normal loads pass through zero: through CRF1 when nothing else loads them (no

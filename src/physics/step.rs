@@ -215,10 +215,10 @@ pub struct Tracking<'a> {
     /// over the first substep; where one did, the exact values at τ = 0 are evaluated (a read
     /// at the step's inputs) before anything is located.
     pub exact: bool,
-    /// Stop the step at the first event located at τ ≥ `min_tau` (early return).
+    /// Stop the step at the first event (early return).
     pub stop_at_first: bool,
-    /// The shortest step that advances the time (an event closer to the start is stepped
-    /// through).
+    /// Events located within this time of the step's start are met at the start: neither
+    /// reported nor stopped at (every early return moves the time on).
     pub min_tau: Real,
 }
 
@@ -285,8 +285,9 @@ pub fn advance_into(
         stopped: false,
         end: [Real::NAN; events::N_EVENTS],
     };
-    // the event functions at the start of the substep
+    // the event functions at the start of the substep; whether the first event is located
     let mut at_start = track.map(|t| *t.start);
+    let mut located = false;
     // the state the substep starts from: `st`, then a copy of the last substep's end
     let mut prev: Option<State> = None;
     // path guard of centred types (below): the shafts at the start of the substep, and the
@@ -331,11 +332,14 @@ pub fn advance_into(
                     .map_err(|e| StepError::Singular(e, 0.0))?;
                 *start = values(ct, p, st, &at0.0);
             }
-            let crossed = crossed(start, &end).count() as u32;
-            if crossed > 0 && met.count == 0 {
-                // the first substep with events: locate each, the earliest is the first event
+            let mut crossed = crossed(start, &end).count() as u32;
+            if crossed > 0 && !located {
+                // the first substep with events: locate each, the earliest is the first event;
+                // one within `min_tau` of the step's start is met there (no zero-length step
+                // stops at it, and neither version reports it)
                 let mut scratch = (Outputs::default(), State::default());
-                let mut first = tau;
+                let mut first = Real::INFINITY;
+                let mut at_start_only = 0u32;
                 for i in events::crossed(start, &end) {
                     let at = |t: Real| {
                         let (a, b) = nodes(t);
@@ -344,16 +348,26 @@ pub fn advance_into(
                         Ok::<_, StepError>(values(ct, p, s, &scratch.0)[i])
                     };
                     let root = locate(i, (tau0, start[i]), (tau, end[i]), EVENT_TOL * h, at)?;
-                    first = first.min(root);
+                    if root < track.min_tau {
+                        crossed -= 1;
+                        at_start_only |= 1 << i;
+                    } else {
+                        first = first.min(root);
+                    }
                 }
-                met.tau = first;
-                if track.stop_at_first && first >= track.min_tau && (first < tau || j < n) {
+                located = first.is_finite();
+                if located {
+                    met.tau = first;
+                }
+                if located && track.stop_at_first && (first < tau || j < n) {
                     if first < tau {
                         (a, b) = nodes(first);
                         substep(s, (first, first - tau0), (&a, &b), o, next)?;
                     }
                     let end = values(ct, p, s, o);
-                    met.count = events::crossed(start, &end).count() as u32;
+                    met.count = events::crossed(start, &end)
+                        .filter(|i| at_start_only & (1 << i) == 0)
+                        .count() as u32;
                     met.stopped = true;
                     met.end = values(ct, p, next, o);
                     return Ok((a, b, met));
