@@ -1526,19 +1526,7 @@ impl Api for Fmi2 {
         let flags = p.b.u8();
         let variant = variant_of(sel as usize);
         let mut valid = true;
-        let guid = match sel % 16 {
-            14 => {
-                valid = false;
-                let n = p.b.u8() % 40;
-                let bytes: Vec<u8> = (0..n).map(|_| p.b.u8().max(1)).collect();
-                Some(CString::new(bytes).expect("no NUL"))
-            }
-            15 => {
-                valid = false;
-                None
-            }
-            _ => Some(CString::new(table(variant).guid.clone()).expect("no NUL")),
-        };
+        let guid = p.model_id(sel, variant, &mut valid);
         let name = p.instance_name(i, flags, &mut valid);
         let fmu_type = match (flags >> 4) % 8 {
             6 => {
@@ -1663,6 +1651,24 @@ impl Api for Fmi2 {
 }
 
 impl<A: Api> Program<'_, A> {
+    /// The GUID (FMI 2.0) or instantiationToken (FMI 3.0) of a header's selector `sel`: the
+    /// variant's, random bytes or NULL (the last two make the arguments invalid).
+    fn model_id(&mut self, sel: u8, variant: Variant, valid: &mut bool) -> Option<CString> {
+        match sel % 16 {
+            14 => {
+                *valid = false;
+                let n = self.b.u8() % 40;
+                let bytes: Vec<u8> = (0..n).map(|_| self.b.u8().max(1)).collect();
+                Some(CString::new(bytes).expect("no NUL"))
+            }
+            15 => {
+                *valid = false;
+                None
+            }
+            _ => Some(CString::new(table(variant).guid.clone()).expect("no NUL")),
+        }
+    }
+
     /// The instance name of a header's `flags`: empty, NULL or random bytes (perhaps not
     /// UTF-8) make the arguments invalid.
     fn instance_name(&mut self, i: usize, flags: u8, valid: &mut bool) -> Option<CString> {
@@ -1845,19 +1851,7 @@ impl Api for Fmi3 {
         let opts = p.b.u8();
         let variant = variant_of(sel as usize);
         let mut valid = true;
-        let token = match sel % 16 {
-            14 => {
-                valid = false;
-                let n = p.b.u8() % 40;
-                let bytes: Vec<u8> = (0..n).map(|_| p.b.u8().max(1)).collect();
-                Some(CString::new(bytes).expect("no NUL"))
-            }
-            15 => {
-                valid = false;
-                None
-            }
-            _ => Some(CString::new(table(variant).guid.clone()).expect("no NUL")),
-        };
+        let token = p.model_id(sel, variant, &mut valid);
         let name = p.instance_name(i, flags, &mut valid);
         let event_mode_used = match (flags >> 4) % 8 {
             6 => 1,

@@ -18,7 +18,6 @@ double, bit for bit.
 """
 from __future__ import annotations
 
-import ctypes
 import functools
 import sys
 import xml.etree.ElementTree as ET
@@ -29,7 +28,7 @@ import pytest
 from fmpy import extract, read_model_description, simulate_fmu
 from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import FMU2Slave
-from fmpy.fmi3 import FMU3Slave, fmi3Float64, fmi3ValueReference
+from fmpy.fmi3 import FMU3Slave
 from fmpy.validation import validate_fmu
 
 from conftest import REPO, VARIANTS
@@ -144,94 +143,12 @@ def test_simulate_fmu_equals_the_fmi2_twin(variant):
 
 # ------------------------------------------------------------------ the master's scenes
 
-class Connector3(master.Connector):
-    """The master's connector over the FMI 3.0 FMU (FMU3Slave), same buffers and calls."""
+class Connector3(master.Connector3):
+    """The master's FMI 3.0 connector (scripts/cosim/master.py) without early return: every step
+    runs to its end, as through FMI 2.0."""
 
-    def __init__(self, variant, params, init_inputs, in_names, out_names, unzipdir=None):
-        md = md3(variant)
-        self.vr = {v.name: v for v in md.modelVariables}
-        master.Connector._count += 1
-        s = FMU3Slave(guid=md.guid, unzipDirectory=unzipped3(variant),
-                      modelIdentifier=md.coSimulation.modelIdentifier,
-                      instanceName=f"{variant}-3-{master.Connector._count}")
-        s.instantiate()
-        s.enterInitializationMode(startTime=0.0)
-        self._set_by_type(s, params)
-        self._set_by_type(s, init_inputs)
-        s.exitInitializationMode()
-        self.s, self.c = s, s.component
-        nin, nout = len(in_names), len(out_names)
-        self.nin, self.nout = nin, nout
-        self.vin = (fmi3ValueReference * nin)(*[self.vr[n].valueReference for n in in_names])
-        self.vout = (fmi3ValueReference * nout)(*[self.vr[n].valueReference for n in out_names])
-        self.xin, self.yout = (fmi3Float64 * nin)(), (fmi3Float64 * nout)()
-        self.din = (fmi3Float64 * nin)()
-        self.seed_c, self.dd_c = (fmi3Float64 * nin)(), (fmi3Float64 * nout)()
-        self.x, self.y, self.d = (np.ctypeslib.as_array(b) for b in (self.xin, self.yout, self.din))
-        self.seed, self.dd = np.ctypeslib.as_array(self.seed_c), np.ctypeslib.as_array(self.dd_c)
-        self.state = None
-        self.calls = 0
-
-    def _set_by_type(self, s, values):
-        for name, val in values.items():
-            v = self.vr[name]
-            {"Float64": s.setFloat64, "Int32": s.setInt32, "Boolean": s.setBoolean}[v.type](
-                [v.valueReference], [val])
-
-    def set(self, values):
-        """What the scenes set between steps (driver.Connector.set), through FMI 3.0 setters."""
-        self._set_by_type(self.s, values)
-
-    def set_inputs(self):
-        self.s.fmi3SetFloat64(self.c, self.vin, self.nin, self.xin, self.nin)
-        self.calls += 1
-
-    def get_outputs(self):
-        self.s.fmi3GetFloat64(self.c, self.vout, self.nout, self.yout, self.nout)
-        self.calls += 1
-        return self.y
-
-    def set_rates(self):
-        """FMI 3.0 has no input derivatives: the FMU extrapolates from the node velocities."""
-
-    def do_step(self, t, H, no_rollback=True):
-        early = self.s.doStep(t, H, no_rollback)
-        assert early == (False, False, False, t + H)
-        self.calls += 1
-
-    def directional(self, seed):
-        self.seed[:] = seed
-        self.s.fmi3GetDirectionalDerivative(self.c, self.vout, self.nout, self.vin, self.nin,
-                                            self.seed_c, self.nin, self.dd_c, self.nout)
-        self.calls += 1
-        return self.dd
-
-    def save(self):
-        if self.state is None:
-            self.state = self.s.getFMUState()
-        else:
-            self.s.fmi3GetFMUState(self.c, ctypes.byref(self.state))
-        self.calls += 1
-
-    def restore(self):
-        self.s.setFMUState(self.state)
-        self.calls += 1
-
-    def read(self, names):
-        out = []
-        for n in names:
-            v = self.vr[n]
-            get = {"Float64": self.s.getFloat64, "Int32": self.s.getInt32}[v.type]
-            out.append(get([v.valueReference])[0])
-        return out
-
-    def close(self):
-        if self.s is not None:
-            if self.state is not None:
-                self.s.freeFMUState(self.state)
-            self.s.terminate()
-            self.s.freeInstance()
-            self.s = None
+    def __init__(self, *args, **kw):
+        super().__init__(*args, early_return=False, **kw)
 
 
 class Connector2(master.Connector):
