@@ -368,7 +368,12 @@ pub fn decode(t: &Table, bytes: &[u8]) -> Result<Snapshot, String> {
                 let mut v = [f64::NAN; N_EVENTS];
                 for (i, x) in v.iter_mut().enumerate() {
                     if mask & (1 << i) != 0 {
-                        *x = r.f("event function")?;
+                        // ±INF is a value (a penetration or force that overflowed far from
+                        // its event); NaN marks a function not taking part, never a value
+                        *x = r.f_any()?;
+                        if x.is_nan() {
+                            return Err("event function is NaN".into());
+                        }
                     }
                 }
                 Ok(v)
