@@ -269,9 +269,9 @@ fn a_function_starting_on_its_zero_is_no_event() {
     let mut end = [f64::NAN; N_EVENTS];
     start[0] = 0.0;
     end[0] = 1.0;
-    assert_eq!(events::crossed(&start, &end).count(), 0);
+    assert_eq!(events::crossed(&start, &end), 0);
     start[0] = -1e-300;
-    assert_eq!(events::crossed(&start, &end).collect::<Vec<_>>(), vec![0]);
+    assert_eq!(events::crossed(&start, &end), 1);
 }
 
 #[test]

@@ -6,7 +6,7 @@ use crate::error::{Category, FmuError, FmuResult, Level};
 use crate::model::access::{non_finite_cause, write_node};
 use crate::model::snapshot::{EventRecord, LastEvent, Mode};
 use crate::physics::connector::{Extrapolation, State};
-use crate::physics::events::{self, EVENT_TOL};
+use crate::physics::events::{self, Values, EVENT_TOL};
 use crate::physics::kinematics::Node;
 use crate::physics::math::Real;
 use crate::physics::step::{advance_into, Met, Rates, StepError, Tracking};
@@ -64,31 +64,29 @@ impl ModelInstance {
         let before = self.wants(Category::Events).then_some(self.s.state);
         // the event functions at the step's start: from the outputs at its inputs when they are
         // at hand (the cache) or needed; the sides at the last step's end where every function
-        // is far from its event (`events::far`); where the outputs cannot be evaluated the step
-        // below reports why
-        let start = if !events::tracked(self.ct, &self.s.params) {
+        // was far from its event there (`events::far`); where the outputs cannot be evaluated
+        // the step below reports why
+        let exact: Values;
+        let start: Option<(&Values, bool)> = if !events::tracked(self.ct, &self.s.params) {
             None
         } else {
-            let assumed = match (&self.s.events, self.cache.get()) {
-                (Some(r), None) if events::far(&r.end, &r.before) => Some(r.end),
-                _ => None,
-            };
-            match assumed {
-                Some(end) => Some((end, false)),
-                None => match self.outputs() {
-                    Ok(_) => self.cache.get().map(|o| {
-                        (
-                            events::values(self.ct, &self.s.params, &self.s.state, o),
-                            true,
-                        )
-                    }),
+            match (&self.s.events, self.cache.get()) {
+                (Some(r), None) if r.far => Some((&r.end, false)),
+                _ => match self.outputs() {
+                    Ok(_) => match self.cache.get() {
+                        Some(o) => {
+                            exact = events::values(self.ct, &self.s.params, &self.s.state, o);
+                            Some((&exact, true))
+                        }
+                        None => None,
+                    },
                     Err(_) => None,
                 },
             }
         };
-        let track = start.as_ref().map(|(start, exact)| Tracking {
+        let track = start.map(|(start, exact)| Tracking {
             start,
-            exact: *exact,
+            exact,
             stop_at_first: self.early_return,
             // an event within the location tolerance of the start is met there, not stopped
             // at; and the time must move on
@@ -108,6 +106,7 @@ impl ModelInstance {
             (self.cache.spare(), &mut next),
         ) {
             Ok((a1, b1, met)) => {
+                let far = start.map(|(start, _)| events::far(&met.end, start));
                 if self.s.params.extrapolation == Extrapolation::Quadratic {
                     // the accelerations of the next step come from this step's start, also
                     // across an event (a body's acceleration is continuous where a friction
@@ -127,19 +126,9 @@ impl ModelInstance {
                 };
                 let o = self.cache.spare();
                 (o.event_time, o.event_count) = (self.s.event.time, self.s.event.count);
-                // the event functions at this step's end, and at the one before (or this step's
-                // exact start) for how far each is from its event
-                self.s.events = match (start, self.s.events) {
-                    (Some((s, true)), _) => Some(EventRecord {
-                        end: met.end,
-                        before: s,
-                    }),
-                    (Some(_), Some(r)) => Some(EventRecord {
-                        end: met.end,
-                        before: r.end,
-                    }),
-                    _ => None,
-                };
+                // the event functions at this step's end, and whether each is far from its
+                // event, judged by its change since the start (exact, or the last step's end)
+                self.s.events = far.map(|far| EventRecord { end: met.end, far });
                 write_node(&mut self.s.inputs[0], &a1);
                 write_node(&mut self.s.inputs[1], &b1);
                 self.s.input_der_set = [[false; 13]; 2];

@@ -57,27 +57,27 @@ pub struct Snapshot {
     /// The last communication point a step started from: its time and the velocity inputs
     /// (v, ω) of nodes a and b there (second-order extrapolation takes accelerations from it).
     pub history: Option<(Real, [[Real; 6]; 2])>,
-    /// The event functions at the end of the last step and of the one before (or at the last
-    /// step's exact start): whether the next step needs their exact values at its start
-    /// (`events::far`). None whenever the state, the parameters or the mode change, so that
-    /// the step after evaluates them.
+    /// The event functions at the end of the last step, and whether each was far from its
+    /// event then (`events::far`): whether the next step needs their exact values at its start.
+    /// None whenever the state, the parameters or the mode change, so that the step after
+    /// evaluates them.
     pub events: Option<EventRecord>,
 }
 
-/// The event functions at the ends of the last two steps (NaN: not taking part).
+/// The event functions at the end of the last step (NaN: not taking part).
 #[derive(Clone, Copy, Debug)]
 pub struct EventRecord {
-    /// At the end of the last step.
+    /// Their values there.
     pub end: Values,
-    /// At the end of the step before (or the last step's exact start).
-    pub before: Values,
+    /// Whether every one was far from its event, judged by its change over that step.
+    pub far: bool,
 }
 
 impl PartialEq for EventRecord {
     /// Bit for bit (NaN marks a function not taking part, and equals itself here).
     fn eq(&self, other: &Self) -> bool {
         let bits = |v: &Values| v.map(Real::to_bits);
-        bits(&self.end) == bits(&other.end) && bits(&self.before) == bits(&other.before)
+        bits(&self.end) == bits(&other.end) && self.far == other.far
     }
 }
 

@@ -5,8 +5,9 @@
 //! (Real f64, Integer i32, Boolean u8), its node inputs in table order (f64), the input
 //! derivatives that are set (u32 mask over the 26 node inputs, then their f64 values), the
 //! connector state, the last step's event record (time f64, count i32), the input history (u8
-//! flag, then time and the 12 velocity inputs as f64 when set), the event-function record (u8
-//! flag, then twice a u32 mask of the functions taking part and their values), and an FNV-1a 64 checksum of everything before it. Parameters and inputs
+//! flag, then time and the 12 velocity inputs as f64 when set), the event-function record (u8:
+//! 0 none, 1 near, 2 far; then a u32 mask of the functions taking part and their values), and an
+//! FNV-1a 64 checksum of everything before it. Parameters and inputs
 //! are written back through the same checks as fmi2Set*, so a decoded state is one that the
 //! setters could have produced.
 
@@ -14,7 +15,7 @@ use super::access::{read_int_param, read_real_param, write_int, write_real};
 use super::snapshot::{EventRecord, LastEvent, Mode, NodeInputs, Snapshot};
 use super::variables::{Causality, CompPar, Field, Start, Table};
 use crate::physics::connector::{Energy, State};
-use crate::physics::events::{Values, N_EVENTS};
+use crate::physics::events::N_EVENTS;
 use crate::physics::friction::{FrictionState, Status};
 use crate::physics::kinematics::Branches;
 use crate::physics::math::Vec3;
@@ -201,13 +202,12 @@ pub fn encode(t: &Table, s: &Snapshot) -> Vec<u8> {
     match &s.events {
         None => w.b(0),
         Some(r) => {
-            w.b(1);
-            for v in [&r.end, &r.before] {
-                // the functions taking part (a mask), then their values
-                let mask = (0..N_EVENTS).fold(0u32, |m, i| m | (u32::from(!v[i].is_nan()) << i));
-                w.0.extend_from_slice(&mask.to_le_bytes());
-                v.iter().filter(|x| !x.is_nan()).for_each(|&x| w.f(x));
-            }
+            // flag 1 + far, a u32 mask of the functions taking part, then their values
+            w.b(1 + u8::from(r.far));
+            let v = &r.end;
+            let mask = (0..N_EVENTS).fold(0u32, |m, i| m | (u32::from(!v[i].is_nan()) << i));
+            w.0.extend_from_slice(&mask.to_le_bytes());
+            v.iter().filter(|x| !x.is_nan()).for_each(|&x| w.f(x));
         }
     }
     let sum = fnv(&w.0);
@@ -359,30 +359,28 @@ pub fn decode(t: &Table, bytes: &[u8]) -> Result<Snapshot, String> {
     };
     let events = match r.b()? {
         0 => None,
-        1 => {
-            let mut read = || -> Result<Values, String> {
-                let mask = r.u32()?;
-                if mask >> N_EVENTS != 0 {
-                    return Err(format!("event function mask {mask:#x} has unknown bits"));
-                }
-                let mut v = [f64::NAN; N_EVENTS];
-                for (i, x) in v.iter_mut().enumerate() {
-                    if mask & (1 << i) != 0 {
-                        // ±INF is a value (a penetration or force that overflowed far from
-                        // its event); NaN marks a function not taking part, never a value
-                        *x = r.f_any()?;
-                        if x.is_nan() {
-                            return Err("event function is NaN".into());
-                        }
+        flag @ (1 | 2) => {
+            let mask = r.u32()?;
+            if mask >> N_EVENTS != 0 {
+                return Err(format!("event function mask {mask:#x} has unknown bits"));
+            }
+            let mut end = [f64::NAN; N_EVENTS];
+            for (i, x) in end.iter_mut().enumerate() {
+                if mask & (1 << i) != 0 {
+                    // ±INF is a value (a penetration or force that overflowed far from its
+                    // event); NaN marks a function not taking part, never a value
+                    *x = r.f_any()?;
+                    if x.is_nan() {
+                        return Err("event function is NaN".into());
                     }
                 }
-                Ok(v)
-            };
-            let end = read()?;
-            let before = read()?;
-            Some(EventRecord { end, before })
+            }
+            Some(EventRecord {
+                end,
+                far: flag == 2,
+            })
         }
-        x => return Err(format!("event record flag {x} is not 0 or 1")),
+        x => return Err(format!("event record flag {x} is not 0, 1 or 2")),
     };
     if r.at != body.len() {
         return Err(format!("{} unexpected trailing bytes", body.len() - r.at));

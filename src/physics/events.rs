@@ -163,15 +163,41 @@ pub fn values(ct: ConnectionType, p: &Params, st: &State, o: &Outputs) -> Values
     v
 }
 
-/// The functions that cross between `a` and `b`: both taking part, on different sides, and
-/// strictly off zero at `a` (a function that starts at zero meets its event at the start, not
-/// inside the substep).
+/// The functions that cross between `a` and `b`, as a bit mask (bit i: function i): both
+/// taking part, on different sides, and strictly off zero at `a` (a function that starts at
+/// zero meets its event at the start, not inside the substep).
 #[inline]
-pub fn crossed(a: &Values, b: &Values) -> impl Iterator<Item = usize> {
-    let (a, b) = (*a, *b);
-    (0..N_EVENTS).filter(move |&i| {
-        a[i] != 0.0 && !a[i].is_nan() && !b[i].is_nan() && side(i, a[i]) != side(i, b[i])
-    })
+pub fn crossed(a: &Values, b: &Values) -> u32 {
+    let mut mask = 0;
+    for i in 0..N_EVENTS {
+        let (x, y) = (a[i], b[i]);
+        if x != 0.0 && !x.is_nan() && !y.is_nan() && side(i, x) != side(i, y) {
+            mask |= 1 << i;
+        }
+    }
+    mask
+}
+
+/// The indices of the bits set in `mask`.
+#[inline]
+pub fn bits(mask: u32) -> impl Iterator<Item = usize> {
+    (0..N_EVENTS).filter(move |i| mask & (1 << i) != 0)
+}
+
+/// Whether `values` from the states `a` and `b` are the same for the same outputs: the
+/// functions taking part follow the stop and friction statuses, and their values depend on
+/// the state only through a sticking effect's plastic slip (unchanged while it sticks) and a
+/// slipping effect's force (which moves: then not).
+#[inline]
+pub fn same_values(a: &State, b: &State) -> bool {
+    let (fa, fb) = (&a.friction, &b.friction);
+    a.stop_status == b.stop_status
+        && fa.status == fb.status
+        && fa.status_r1 == fb.status_r1
+        && fa.status != Status::Slip
+        && fa.status_r1 != Status::Slip
+        && fa.slip_plastic == fb.slip_plastic
+        && fa.slip_plastic_r1 == fb.slip_plastic_r1
 }
 
 /// Locates the root of event function `i` on [ta, tb], where `fa` lies on one side and `fb`

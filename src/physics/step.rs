@@ -325,22 +325,23 @@ pub fn advance_into(
         substep(s, (tau, dt), (&a, &b), o, next)?;
         if let (Some(start), Some(track)) = (at_start.as_mut(), track) {
             let end = values(ct, p, s, o);
-            if j == 1 && !track.exact && crossed(start, &end).next().is_some() {
+            let mut crossed = crossed(start, &end);
+            if j == 1 && !track.exact && crossed != 0 {
                 // the assumed sides at τ = 0 say a function crossed: take the exact values
                 let mut at0 = (Outputs::default(), State::default());
                 evaluate_into(ct, p, st, a0, b0, Eval::Read, (&mut at0.0, &mut at0.1))
                     .map_err(|e| StepError::Singular(e, 0.0))?;
                 *start = values(ct, p, st, &at0.0);
+                crossed = events::crossed(start, &end);
             }
-            let mut crossed = crossed(start, &end).count() as u32;
-            if crossed > 0 && !located {
+            if crossed != 0 && !located {
                 // the first substep with events: locate each, the earliest is the first event;
                 // one within `min_tau` of the step's start is met there (no zero-length step
                 // stops at it, and neither version reports it)
                 let mut scratch = (Outputs::default(), State::default());
                 let mut first = Real::INFINITY;
-                let mut at_start_only = 0u32;
-                for i in events::crossed(start, &end) {
+                let mut met_at_start = 0u32;
+                for i in events::bits(crossed) {
                     let at = |t: Real| {
                         let (a, b) = nodes(t);
                         let part = (t, t - tau0);
@@ -349,12 +350,12 @@ pub fn advance_into(
                     };
                     let root = locate(i, (tau0, start[i]), (tau, end[i]), EVENT_TOL * h, at)?;
                     if root < track.min_tau {
-                        crossed -= 1;
-                        at_start_only |= 1 << i;
+                        met_at_start |= 1 << i;
                     } else {
                         first = first.min(root);
                     }
                 }
+                crossed &= !met_at_start;
                 located = first.is_finite();
                 if located {
                     met.tau = first;
@@ -364,17 +365,22 @@ pub fn advance_into(
                         (a, b) = nodes(first);
                         substep(s, (first, first - tau0), (&a, &b), o, next)?;
                     }
-                    let end = values(ct, p, s, o);
-                    met.count = events::crossed(start, &end)
-                        .filter(|i| at_start_only & (1 << i) == 0)
-                        .count() as u32;
+                    // the functions crossed at the event (not those met at the start)
+                    let at_event = values(ct, p, s, o);
+                    met.count = (events::crossed(start, &at_event) & !met_at_start).count_ones();
                     met.stopped = true;
                     met.end = values(ct, p, next, o);
                     return Ok((a, b, met));
                 }
             }
-            met.count += crossed;
-            *start = values(ct, p, next, o);
+            met.count += crossed.count_ones();
+            // the next substep's start: these values, with the activity of the state it
+            // starts from (the same unless a status changed)
+            *start = if events::same_values(s, next) {
+                end
+            } else {
+                values(ct, p, next, o)
+            };
         }
         if j == n {
             if let Some(end) = at_start {
