@@ -50,8 +50,10 @@ pub const N_EVENTS: usize = 25;
 pub const FAR: Real = 8.0;
 
 /// Whether every function taking part at the end of a step (`end`, not NaN) is far from its
-/// event, judged by its change since the end of the step before (`before`): then the next
-/// step may start from `end`'s sides (see `FAR`); otherwise it needs the exact values.
+/// event, judged by its change over the step (from `before`, its values at the step's start:
+/// exact, or the sides assumed from the step before, which then include the importer's input
+/// jump only through the step after): then the next step may start from `end`'s sides (see
+/// `FAR`); otherwise it needs the exact values.
 pub fn far(end: &Values, before: &Values) -> bool {
     end.iter()
         .zip(before)
