@@ -25,7 +25,8 @@
 //! pass and writes nothing. Environment: BENCH_BATCHES, BENCH_STEPS (per batch),
 //! BENCH_ONLY=<Variant>[:on|:off] (then nothing is written either), BENCH_PROFILE=<n> (n more
 //! rounds in `profiled` and `profiled_empty`, for
-//! `valgrind --tool=callgrind --toggle-collect='native::profiled'`).
+//! `valgrind --tool=callgrind --toggle-collect='native::profiled'`), BENCH_DUMP=<file> (no
+//! timing: the bits of every output along every case's path, `dump_bits`).
 #![allow(clippy::not_unsafe_ptr_arg_deref)]
 
 use connector_fmu::fmi2::exports as fmi;
@@ -406,6 +407,11 @@ fn path_of(v: Variant, sel: &[usize]) -> Vec<f64> {
 
 /// An instance of the real FMU, parameters set, inputs at t = 0, initialized.
 fn real_instance(v: Variant, params: &[(String, f64)]) -> Inst {
+    real_instance_with(v, params, &[])
+}
+
+/// `real_instance` with Integer parameters too (`ints`, values given as f64).
+fn real_instance_with(v: Variant, params: &[(String, f64)], ints: &[(String, f64)]) -> Inst {
     let (vin, sel, vout) = interface(v);
     let path = path_of(v, &sel);
     let env = support::new_env();
@@ -434,6 +440,10 @@ fn real_instance(v: Variant, params: &[(String, f64)]) -> Inst {
     };
     for (n, x) in params {
         ok(env, fmi::fmi2SetReal(c, &support::vr(v, n), 1, x), n);
+    }
+    for (n, x) in ints {
+        let i = *x as i32;
+        ok(env, fmi::fmi2SetInteger(c, &support::vr(v, n), 1, &i), n);
     }
     ok(
         env,
@@ -893,6 +903,107 @@ fn scene_json(v: Variant, params: &[(String, f64)]) -> String {
     j
 }
 
+/// BENCH_DUMP=<file>: the bits of every output after every round of every case (both
+/// behaviour sets, linear and second-order extrapolation, two periods), and every 97th round
+/// the directional derivatives of all Real outputs along each node input, written as hex lines
+/// to <file> (nothing timed). Two builds that write the same file compute the same numbers bit
+/// for bit on these paths (docs/benchmarks.md: how the per-step restructuring was checked).
+fn dump_bits(path: &str) {
+    let mut text = String::new();
+    for v in [
+        Variant::Planar,
+        Variant::ProjectionCartesian,
+        Variant::ProjectionFlexionTorsion,
+        Variant::Bushing,
+        Variant::RadialThrust,
+    ] {
+        let t = table(v);
+        let real_out: Vec<u32> = t
+            .vars
+            .iter()
+            .filter(|x| x.causality == Causality::Output)
+            .filter(|x| !matches!(x.start, connector_fmu::variables::Start::Integer(_)))
+            .map(|x| x.vr)
+            .collect();
+        let cont_out: Vec<u32> = t
+            .vars
+            .iter()
+            .filter(|x| x.causality == Causality::Output)
+            .filter(|x| x.variability == connector_fmu::variables::Variability::Continuous)
+            .map(|x| x.vr)
+            .collect();
+        let int_out: Vec<u32> = t
+            .vars
+            .iter()
+            .filter(|x| x.causality == Causality::Output)
+            .filter(|x| matches!(x.start, connector_fmu::variables::Start::Integer(_)))
+            .map(|x| x.vr)
+            .collect();
+        for on in [false, true] {
+            for extrapolation in [1.0, 2.0] {
+                let mut params = if on { params_on(v) } else { vec![] };
+                if extrapolation != 1.0 {
+                    // an Integer parameter: set below through fmi2SetInteger
+                    params.push(("cosim.extrapolation".into(), extrapolation));
+                }
+                let (ints, reals): (Vec<_>, Vec<_>) = params
+                    .into_iter()
+                    .partition(|(n, _)| n == "cosim.extrapolation");
+                let mut f = real_instance_with(v, &reals, &ints);
+                let _ = writeln!(text, "{} on={on} extrapolation={extrapolation}", name_of(v));
+                let mut r = vec![0.0; real_out.len()];
+                let mut i = vec![0; int_out.len()];
+                let mut dd = vec![0.0; cont_out.len()];
+                for step in 0..2 * PERIOD {
+                    rounds(&REAL, &mut f, 1);
+                    ok(
+                        f.env,
+                        fmi::fmi2GetReal(f.c, real_out.as_ptr(), r.len(), r.as_mut_ptr()),
+                        "outputs",
+                    );
+                    ok(
+                        f.env,
+                        fmi::fmi2GetInteger(f.c, int_out.as_ptr(), i.len(), i.as_mut_ptr()),
+                        "integer outputs",
+                    );
+                    let _ = write!(text, "{step}:");
+                    for x in &r {
+                        let _ = write!(text, " {:016x}", x.to_bits());
+                    }
+                    for x in &i {
+                        let _ = write!(text, " {x}");
+                    }
+                    text.push('\n');
+                    if step % 97 == 0 {
+                        for &known in &f.vin {
+                            ok(
+                                f.env,
+                                fmi::fmi2GetDirectionalDerivative(
+                                    f.c,
+                                    cont_out.as_ptr(),
+                                    cont_out.len(),
+                                    &known,
+                                    1,
+                                    &1.0,
+                                    dd.as_mut_ptr(),
+                                ),
+                                "directional derivative",
+                            );
+                            let _ = write!(text, "  d/d{known}:");
+                            for x in &dd {
+                                let _ = write!(text, " {:016x}", x.to_bits());
+                            }
+                            text.push('\n');
+                        }
+                    }
+                }
+            }
+        }
+    }
+    std::fs::write(path, text).expect("write BENCH_DUMP file");
+    println!("wrote {path}");
+}
+
 fn env_usize(name: &str) -> Option<usize> {
     std::env::var(name).ok().and_then(|s| s.parse().ok())
 }
@@ -906,6 +1017,10 @@ fn main() {
         steps: env_usize("BENCH_STEPS").unwrap_or(steps),
         alloc_steps: if full { 10_000 } else { 1_000 },
     };
+    if let Ok(path) = std::env::var("BENCH_DUMP") {
+        dump_bits(&path);
+        return;
+    }
     let write_files = full && only.is_none();
     if full && !empty_fmu().source.starts_with('/') {
         eprintln!(
