@@ -17,7 +17,11 @@
 //! - `allocs_per_step`: heap allocations per round after warm-up, counted by a counting global
 //!   allocator (must be 0: the run fails otherwise);
 //! - `state_bytes`: fmi2SerializedFMUstateSize after the run (must be ≤ 1024: the run fails
-//!   otherwise).
+//!   otherwise);
+//! - for Bushing and Planar "on" (and Bushing "on" without its stops, "on-nostops": no event
+//!   tracking), `floor_direct`: ns per round of the same physics written directly
+//!   (`floor.rs`), interleaved in the same batches, after a check that it computes the FMU's
+//!   node loads and CTF/CTM to 1e-12 relative over two periods (the run fails otherwise).
 //!
 //! `cargo bench --bench native` runs the full benchmark, prints the table and writes
 //! out/bench_native.csv and out/bench_scenes.json (the "on" scenes of Bushing and Planar, for
