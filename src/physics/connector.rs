@@ -277,10 +277,13 @@ fn evaluate_body(
     (o, next): (&mut Outputs, &mut State),
 ) -> Result<(), Singular> {
     let roles = ct.roles();
-    let mut g = Geometry::ZERO;
+    let mut g = Geometry::BLANK;
     geometry_into(ct, a, b, &st.branches, &mut g)?;
-    *next = *st;
+    // `next` field by field (every field is written, none twice): what the evaluation does not
+    // change is copied from `st`, the rest is written below
     next.branches = g.branches;
+    next.c0 = st.c0;
+    next.dissipated = st.dissipated;
     // Every output is written below, from zero where it accumulates (writing the struct
     // as a whole first would cost a memset of all of it on every evaluation).
     let mut stored = 0.0;
@@ -289,6 +292,7 @@ fn evaluate_body(
 
     for (k, role) in roles.iter().enumerate() {
         if *role == Role::Absent {
+            next.stop_status[k] = st.stop_status[k];
             (o.cp[k], o.cu[k], o.cv[k]) = (0.0, 0.0, 0.0);
             (o.cef[k], o.cvf[k], o.crf[k], o.cslst[k]) = (0.0, 0.0, 0.0, 0);
             continue;
@@ -300,6 +304,7 @@ fn evaluate_body(
         o.cv[k] = v;
         match role {
             Role::Constrained => {
+                next.stop_status[k] = st.stop_status[k];
                 // penalty on the constraint: SLIDE-PLANE x = x0, REVOLUTE φ2 = φ3 = 0
                 let target = if k == 0 { st.c0[0] } else { 0.0 };
                 let (kp, cp) = p.constraint.for_slot(k);
@@ -340,7 +345,9 @@ fn evaluate_body(
     // (F_NC and M_NR1 are reported even when μ = 0 turns the friction force off)
     o.csf = [0.0; 6];
     o.friction = FrictionOut::default();
-    if ct.rot == super::kinematics::Rotational::Revolute {
+    if ct.rot != super::kinematics::Rotational::Revolute {
+        next.friction = st.friction;
+    } else {
         let fr = friction::update(
             &p.friction,
             &st.friction,

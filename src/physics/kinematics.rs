@@ -210,8 +210,8 @@ impl Shafts {
     #[inline]
     pub fn of(qa: &Quat, qb: &Quat) -> Shafts {
         Shafts {
-            e3a: qa * Vec3::z(),
-            e3b: qb * Vec3::z(),
+            e3a: shaft(qa),
+            e3b: shaft(qb),
         }
     }
 
@@ -226,6 +226,18 @@ impl Shafts {
     pub fn flexion(&self) -> Real {
         self.e3a.cross(&self.e3b).norm().atan2(self.cos_flexion())
     }
+}
+
+/// q·e3, the rotated third axis: nalgebra's `q * Vector3::z()` (t = 2 u × e3,
+/// e3 + w t + u × t, u = the vector part) without its products with the zeros of e3, which
+/// change no value (a product with ±0 added to a non-zero term leaves it exact; only the sign
+/// of an exact zero can differ, which no use of the axes can tell: they enter dot and cross
+/// products and a comparison `> 0`).
+#[inline]
+pub fn shaft(q: &Quat) -> Vec3 {
+    let (w, x, y, z) = (q.w, q.i, q.j, q.k);
+    let (tx, ty) = (y * 2.0, -x * 2.0);
+    Vec3::new(tx * w - z * ty, ty * w + z * tx, (x * ty - y * tx) + 1.0)
 }
 
 /// A configuration the kinematics cannot measure.
@@ -262,6 +274,19 @@ impl Geometry {
             beta: 0.0,
             alpha: 0.0,
             e_r_local: Vec3::new(1.0, 0.0, 0.0),
+        },
+    };
+
+    /// All bits zero (triad and e_r_local included, so not a valid geometry): the cheapest
+    /// value to evaluate into with `geometry_into`, which overwrites every field.
+    pub const BLANK: Geometry = Geometry {
+        pos: [0.0; 6],
+        grad: [Grad::ZERO; 6],
+        triad: Mat3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+        branches: Branches {
+            beta: 0.0,
+            alpha: 0.0,
+            e_r_local: Vec3::new(0.0, 0.0, 0.0),
         },
     };
 }
@@ -391,14 +416,18 @@ pub fn geometry(
     b: &Node,
     prev: &Branches,
 ) -> Result<Geometry, Singular> {
-    let mut g = Geometry::ZERO;
+    let mut g = Geometry::BLANK;
     geometry_into(ct, a, b, prev, &mut g)?;
     Ok(g)
 }
 
-/// `geometry` written into `g` (no copy of the result on the per-step path).
+/// `geometry` written into `g` (the per-step path, `connector::evaluate_into`: no copy of the
+/// result). Every field of `g` is overwritten; on an error its contents are unspecified.
 ///
-/// Every field of `g` is overwritten; on an error its contents are unspecified.
+/// A caller that starts from `Geometry::BLANK` (all bits zero) lets the compiler drop that
+/// zeroing where this function overwrites it: with the connection type a constant, every store
+/// below is to a known place (a `Result<Geometry, _>` returned by value was copied instead,
+/// 736 bytes, and so was a start from `Geometry::ZERO`, whose identity triad is not zero bits).
 #[inline(always)]
 pub fn geometry_into(
     ct: ConnectionType,
@@ -410,8 +439,7 @@ pub fn geometry_into(
     let ra = *a.q.to_rotation_matrix().matrix();
     let rb = *b.q.to_rotation_matrix().matrix();
     let d = b.r - a.r;
-    // field by field: a struct literal would be built aside and copied; only the slots the
-    // connection type leaves absent are zeroed, the others are written below
+    // only the slots the connection type leaves absent are zeroed, the others are written below
     for (k, role) in ct.roles().iter().enumerate() {
         if *role == Role::Absent {
             g.pos[k] = 0.0;

@@ -292,7 +292,15 @@ pub fn advance_into(
     let mut prev: Option<State> = None;
     // path guard of centred types (below): the shafts at the start of the substep, and the
     // bound on the relative angular velocity, |ω_b − ω_a| + |ω̇_b − ω̇_a|·τ
-    let mut shafts_prev = Shafts::of(&a0.q, &b0.q);
+    let mut shafts_prev = if ct.centred() {
+        Shafts::of(&a0.q, &b0.q)
+    } else {
+        // never read: the guard is for centred types only
+        Shafts {
+            e3a: Vec3::zeros(),
+            e3b: Vec3::zeros(),
+        }
+    };
     let (w_rel0, w_rel1) = ((rb.dth - ra.dth).norm(), (rb.dw - ra.dw).norm());
     for j in 1..=n {
         // time as t0 + j·dt, never accumulated
