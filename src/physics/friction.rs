@@ -292,8 +292,9 @@ pub fn update(
         next.mu_rate = [v, v];
         let limit = (p.mu(v) * f_nc).min(p.max_force);
         let norm = (f_tr[0] * f_tr[0] + f_tr[1] * f_tr[1] + (m_tr / rho) * (m_tr / rho)).sqrt();
-        let loading = rate[0] * f_tr[0] + rate[1] * f_tr[1] + rate[2] * m_tr > 0.0;
-        let (scale, status) = return_status(norm, limit, f_nc, (on_limit(0), loading));
+        let load = loading(st, pos, [f_tr[0], f_tr[1], m_tr]);
+        let flowing = on_limit_slips(stepping, load[0] + load[1], st.status);
+        let (scale, status) = return_status(norm, limit, f_nc, (on_limit(0), flowing));
         next.status = status;
         next.status_r1 = status;
         if scale == 1.0 {
@@ -314,15 +315,16 @@ pub fn update(
         let v_r = speed_for(st.status_r1, spin, st.mu_rate[1]);
         next.mu_rate = [v, v_r];
         let limit = (p.mu(v) * f_nc).min(p.max_force);
-        let loading = rate[0] * f_tr[0] + rate[1] * f_tr[1] > 0.0;
+        let load = loading(st, pos, [f_tr[0], f_tr[1], m_tr]);
+        let flowing = on_limit_slips(stepping, load[0], st.status);
         let (scale, status) =
-            return_status(norm2(f_tr[0], f_tr[1]), limit, f_nc, (on_limit(0), loading));
-        let loading_r = rate[2] * m_tr > 0.0;
+            return_status(norm2(f_tr[0], f_tr[1]), limit, f_nc, (on_limit(0), flowing));
+        let flowing_r = on_limit_slips(stepping, load[1], st.status_r1);
         let (scale_r, status_r) = return_status(
             m_tr.abs(),
             p.mu(v_r) * m_nr1,
             m_nr1,
-            (on_limit(1), loading_r),
+            (on_limit(1), flowing_r),
         );
         next.status = status;
         next.status_r1 = status_r;
@@ -539,18 +541,44 @@ fn disc_flow_return(
     (f, m)
 }
 
+/// How much the motion since the committed state loaded each stick spring along its trial
+/// force (sliding, spin): the elastic slip's change dotted with the force (> 0: loading).
+#[inline]
+fn loading(st: &FrictionState, pos: [Real; 3], f: [Real; 3]) -> [Real; 2] {
+    let e = elastic(st, pos);
+    let d = [
+        e[0] - st.elastic[0],
+        e[1] - st.elastic[1],
+        e[2] - st.elastic[2],
+    ];
+    [d[0] * f[0] + d[1] * f[1], d[2] * f[2]]
+}
+
+/// Whether an effect whose trial force lies on its limit within round-off slips: in a substep,
+/// when the substep's motion loaded its spring further along the force (a breakaway or a slip
+/// going on; at rest or moving back the spring holds: stick); elsewhere (a read where a step
+/// ended, restored or not) the status that step committed, so a read reports what the step did.
+#[inline]
+fn on_limit_slips(stepping: bool, load: Real, committed: Status) -> bool {
+    if stepping {
+        load > 0.0
+    } else {
+        committed == Status::Slip
+    }
+}
+
 /// Relative band around the friction limit that counts as "on the limit".
 pub const ON_LIMIT: Real = 1e-9;
 
 /// Scale factor onto the limit and the status for a trial magnitude; `branch`: the status
-/// whose branch of the return map a tangent evaluation keeps; `loading`: whether the relative
-/// velocity runs along the trial force (its power is positive).
+/// whose branch of the return map a tangent evaluation keeps; `flowing`: whether a trial on
+/// the limit within round-off slips (`on_limit_slips`).
 #[inline]
 fn return_status(
     trial: Real,
     limit: Real,
     normal: Real,
-    (branch, loading): (Option<Status>, bool),
+    (branch, flowing): (Option<Status>, bool),
 ) -> (Real, Status) {
     // the tangent's branch: a slipping effect on its limit, a sticking one elastic
     match branch {
@@ -560,11 +588,10 @@ fn return_status(
     }
     // On the limit within round-off there is no further return: re-evaluating the connector
     // where a slip step ended puts the trial force back on the limit (to round-off, either
-    // side), and that is the same slip with the same force while the motion goes on along it;
-    // at rest or moving back, the spring holds: stick (the slip → stick event function is
-    // this same power, docs/physics.md "Events").
+    // side), and that is the same slip with the same force (`on_limit_slips`). A contact
+    // brought to rest on its limit sticks from its first substep at rest.
     if normal > 0.0 && (trial - limit).abs() <= ON_LIMIT * limit {
-        let status = if loading { Status::Slip } else { Status::Stick };
+        let status = if flowing { Status::Slip } else { Status::Stick };
         return (1.0, status);
     }
     if trial <= limit {
