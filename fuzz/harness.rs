@@ -50,11 +50,6 @@ use connector_fmu::variables::{table, Causality, Start, Variability, Variant, VA
 use std::ffi::{c_char, c_int, c_void, CStr, CString};
 use std::marker::PhantomData;
 use std::ptr::{null, null_mut};
-use std::sync::atomic::{AtomicUsize, Ordering};
-
-/// Early returns seen (FMI 3.0 DoSteps that stopped at an event), over all programs run in
-/// this process: the smoke replay checks that its programs reach them.
-pub static EARLY_RETURNS: AtomicUsize = AtomicUsize::new(0);
 
 // ------------------------------------------------------------------ logger
 
@@ -399,6 +394,8 @@ pub struct Program<'a, A: Api> {
     bufs: Vec<(Vec<u8>, Variant)>,
     steps: usize,
     trace: Vec<String>,
+    /// FMI 3.0 DoSteps that returned early at an event (what `run` returns).
+    early_returns: usize,
     api: PhantomData<A>,
 }
 
@@ -493,6 +490,7 @@ impl<'a, A: Api> Program<'a, A> {
             bufs: Vec::new(),
             steps: 0,
             trace: Vec::new(),
+            early_returns: 0,
             api: PhantomData,
         }
     }
@@ -757,7 +755,7 @@ impl<'a, A: Api> Program<'a, A> {
             None => (false, now.unwrap_or(f64::NAN)),
         };
         if early {
-            EARLY_RETURNS.fetch_add(1, Ordering::Relaxed);
+            self.early_returns += 1;
             if !early_allowed {
                 self.fail(format!(
                     "{} returned early without earlyReturnAllowed",
@@ -1347,7 +1345,7 @@ impl<'a, A: Api> Program<'a, A> {
     }
 
     /// Runs the program to its end, then releases every state and instance.
-    fn run(mut self) {
+    fn run(mut self) -> usize {
         A::instantiate(&mut self, 0);
         let mut ops = 0;
         while !self.b.done() && ops < MAX_OPS {
@@ -1379,12 +1377,13 @@ impl<'a, A: Api> Program<'a, A> {
         if trace_wanted() {
             eprintln!("program trace: {:#?}", self.trace);
         }
+        self.early_returns
     }
 }
 
-/// Runs one program (FMI 3.0 when the first byte is FMI3_MODE or more). Panics when an
-/// invariant is violated.
-pub fn run(data: &[u8]) {
+/// Runs one program (FMI 3.0 when the first byte is FMI3_MODE or more); returns how many of
+/// its steps returned early at an event. Panics when an invariant is violated.
+pub fn run(data: &[u8]) -> usize {
     match data.first() {
         Some(&m) if m >= FMI3_MODE => Program::<Fmi3>::new(&data[1..]).run(),
         _ => Program::<Fmi2>::new(data).run(),
