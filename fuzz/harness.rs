@@ -985,10 +985,31 @@ impl<'a, A: Api> Program<'a, A> {
         let (s2, o2) = self.step_checked(i, t, h);
         let y2 = self.read_outputs(i);
         if s1 != s2 || y1 != y2 || o1 != o2 {
+            // where the outputs differ: the read statuses, or the first differing value
+            let diff = match (&y1, &y2) {
+                (Some((r1, x1, n1)), Some((r2, x2, n2))) if r1 == r2 => {
+                    let vrs = reals_of(self.variant(i).expect("live"), |x| {
+                        x.causality == Causality::Output
+                    });
+                    match x1.iter().zip(x2).position(|(a, b)| a != b) {
+                        Some(k) => format!(
+                            "vr {}: {} vs {}",
+                            vrs[k],
+                            f64::from_bits(x1[k]),
+                            f64::from_bits(x2[k])
+                        ),
+                        None => format!("integers {n1:?} vs {n2:?}"),
+                    }
+                }
+                (a, b) => format!(
+                    "reads {:?} vs {:?}",
+                    a.as_ref().map(|x| x.0),
+                    b.as_ref().map(|x| x.0)
+                ),
+            };
             self.fail(format!(
-                "repeating a step after {} differs: {s1:?} vs {s2:?}, {o1:?} vs {o2:?}, outputs equal: {}",
-                A::SET_STATE,
-                y1 == y2
+                "repeating a step after {} differs: {s1:?} vs {s2:?}, {o1:?} vs {o2:?}, outputs: {diff}",
+                A::SET_STATE
             ));
         }
         self.call(i, A::FREE_STATE, |c| A::free_state(c, &mut s));

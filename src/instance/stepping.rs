@@ -147,6 +147,10 @@ impl ModelInstance {
             }
             Err(e) => {
                 self.s.mode = Mode::Error;
+                // what is read after a refused step is evaluated at the kept inputs and state,
+                // as after a restore of that state (not the outputs of an earlier step, which
+                // can differ from a read at the same point by round-off in friction)
+                self.cache.clear();
                 let cause = match e {
                     StepError::NotFinite(_) => {
                         non_finite_cause(self.table, self.cache.spare(), &self.s.inputs)
