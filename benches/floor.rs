@@ -129,6 +129,18 @@ fn branch(raw: f64, prev: f64) -> f64 {
     raw + two_pi * ((prev - raw) / two_pi).round()
 }
 
+/// Spring, damper and stop force of available component slot `k` at position `x`, rate `v`
+/// (initial position `c0`).
+#[inline]
+fn component_force(p: &FloorParams, k: usize, x: f64, v: f64, c0: f64) -> f64 {
+    let (ks, cs) = if k < 3 {
+        (p.stop.k, p.stop.c)
+    } else {
+        (p.stop.k_rot, p.stop.c_rot)
+    };
+    p.k[k] * (x - c0) + p.c[k] * v + stop(x, v, p.lower[k], p.upper[k], ks, cs)
+}
+
 /// One-sided stop penalty force on position c with rate v (never pulls).
 #[inline(always)]
 fn stop(c: f64, v: f64, lower: f64, upper: f64, k: f64, d: f64) -> f64 {
@@ -461,14 +473,7 @@ impl Floor {
         ];
         let mut f = [0.0; 6];
         for k in 0..6 {
-            let (ks, cs) = if k < 3 {
-                (p.stop.k, p.stop.c)
-            } else {
-                (p.stop.k_rot, p.stop.c_rot)
-            };
-            let (x, v) = (pos[k], rate[k]);
-            f[k] =
-                p.k[k] * (x - self.c0[k]) + p.c[k] * v + stop(x, v, p.lower[k], p.upper[k], ks, cs);
+            f[k] = component_force(p, k, pos[k], rate[k], self.c0[k]);
         }
         // node loads: force Σ F_i t_i on a, its moment (Σ F_i t_i) × d shared by the triad's
         // Jacobians, the rotational components' moments through K
@@ -533,14 +538,7 @@ impl Floor {
         f[4] = con.k_rot * pos[4] + con.c_rot * rate[4];
         f[5] = con.k_rot * pos[5] + con.c_rot * rate[5];
         for k in 1..4 {
-            let (ks, cs) = if k < 3 {
-                (p.stop.k, p.stop.c)
-            } else {
-                (p.stop.k_rot, p.stop.c_rot)
-            };
-            let (x, v) = (pos[k], rate[k]);
-            f[k] =
-                p.k[k] * (x - self.c0[k]) + p.c[k] * v + stop(x, v, p.lower[k], p.upper[k], ks, cs);
+            f[k] = component_force(p, k, pos[k], rate[k], self.c0[k]);
         }
         let fr = friction::update(
             &p.friction,

@@ -34,22 +34,7 @@ fn node(r: Vec3, v: Vec3) -> Node {
 }
 
 /// One tracked step from (st, a, b) moving along `ra`, `rb`: (outputs, state, nodes, met),
-/// with the exact event functions at its start.
-fn tracked_step(
-    ct: ConnectionType,
-    p: &Params,
-    st: &State,
-    (a, ra): (&Node, &Rates),
-    (b, rb): (&Node, &Rates),
-    h: f64,
-    stop: bool,
-) -> (Outputs, State, Node, Met) {
-    let (o0, _) = evaluate(ct, p, st, a, b, Eval::Read).expect("regular");
-    let start: Values = events::values(ct, p, st, &o0);
-    step_from(ct, p, st, (a, ra), (b, rb), h, stop, (&start, true))
-}
-
-/// One tracked step with the given start values (exact or assumed).
+/// from the given event functions at its start (exact or assumed), or the exact ones (None).
 #[allow(clippy::too_many_arguments)]
 fn step_from(
     ct: ConnectionType,
@@ -59,8 +44,17 @@ fn step_from(
     (b, rb): (&Node, &Rates),
     h: f64,
     stop: bool,
-    (start, exact): (&Values, bool),
+    start: Option<(&Values, bool)>,
 ) -> (Outputs, State, Node, Met) {
+    let exact;
+    let (start, exact_start) = match start {
+        Some(s) => s,
+        None => {
+            let (o0, _) = evaluate(ct, p, st, a, b, Eval::Read).expect("regular");
+            exact = events::values(ct, p, st, &o0);
+            (&exact, true)
+        }
+    };
     let mut o = Outputs::default();
     let mut next = State::default();
     let (_, b1, met) = advance_into(
@@ -72,7 +66,7 @@ fn step_from(
         h,
         Some(Tracking {
             start,
-            exact,
+            exact: exact_start,
             stop_at_first: stop,
             min_tau: EVENT_TOL * h,
         }),
@@ -112,7 +106,7 @@ fn a_stop_is_met_and_left_where_the_straight_path_crosses_it() {
     // from x = 0.008 at 1 m/s: contact 2 ms into the step
     let b = node(Vec3::new(0.008, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0));
     let (ra, rb) = (Rates::HOLD, Rates::from_velocities(&b));
-    let (o, next, b1, met) = tracked_step(ct, &p, &st, (&a, &ra), (&b, &rb), h, true);
+    let (o, next, b1, met) = step_from(ct, &p, &st, (&a, &ra), (&b, &rb), h, true, None);
     assert!(met.stopped);
     assert_eq!(met.count, 1);
     assert_located(&met, 0.002, h, "contact");
@@ -122,7 +116,7 @@ fn a_stop_is_met_and_left_where_the_straight_path_crosses_it() {
     // out again at −1 m/s from 0.011: leaves 1 ms into the step
     let b = node(Vec3::new(0.011, 0.0, 0.0), Vec3::new(-1.0, 0.0, 0.0));
     let rb = Rates::from_velocities(&b);
-    let (o, next, _, met) = tracked_step(ct, &p, &next, (&a, &ra), (&b, &rb), h, true);
+    let (o, next, _, met) = step_from(ct, &p, &next, (&a, &ra), (&b, &rb), h, true, None);
     assert_located(&met, 0.001, h, "release");
     assert_eq!(
         (next.stop_status[0], o.cslst[0]),
@@ -149,7 +143,7 @@ fn a_torsion_stop_is_met_where_the_constant_spin_reaches_it() {
     // the state at β = 0.25 (branch), then the step: the stop is met at (0.3 − 0.25)/ω
     let (_, st) = evaluate(ct, &p, &st, &a, &b, Eval::Step(1e-3)).expect("regular");
     let (ra, rb) = (Rates::HOLD, Rates::from_velocities(&b));
-    let (_, next, _, met) = tracked_step(ct, &p, &st, (&a, &ra), (&b, &rb), h, true);
+    let (_, next, _, met) = step_from(ct, &p, &st, (&a, &ra), (&b, &rb), h, true, None);
     assert_located(&met, 0.05 / w, h, "torsion stop");
     assert_eq!(next.stop_status[5], 1);
 }
@@ -175,7 +169,7 @@ fn breakaway_is_where_the_stick_spring_reaches_mu_n() {
     // the stick spring k_s·v·t reaches μN at t0 = μN/(k_s v) = 0.01 s
     let h = 0.016;
     let (ra, rb) = (Rates::HOLD, Rates::from_velocities(&b));
-    let (o, next, _, met) = tracked_step(ct, &p, &st, (&a, &ra), (&b, &rb), h, true);
+    let (o, next, _, met) = step_from(ct, &p, &st, (&a, &ra), (&b, &rb), h, true, None);
     assert_located(&met, mu * n / (ks * v), h, "breakaway");
     assert_eq!(next.friction.status, Status::Slip, "slipping at the event");
     assert!((o.friction.csfc - mu * n).abs() <= 1e-9 * mu * n);
@@ -200,7 +194,16 @@ fn slip_ends_where_the_slip_velocity_reverses() {
         dv: Vec3::new(0.0, -acc, 0.0),
         ..Rates::from_velocities(&b)
     };
-    let (_, _, _, met) = tracked_step(ct, &p, &adv.state, (&a, &Rates::HOLD), (&b, &rb), h, true);
+    let (_, _, _, met) = step_from(
+        ct,
+        &p,
+        &adv.state,
+        (&a, &Rates::HOLD),
+        (&b, &rb),
+        h,
+        true,
+        None,
+    );
     assert_located(&met, v / acc, h, "slip -> stick");
     assert!(met.stopped);
 }
@@ -217,7 +220,7 @@ fn the_normal_force_vanishes_where_the_axial_reaction_changes_sign() {
     let b = node(Vec3::new(-1e-3, 0.0, 0.0), Vec3::new(0.1, 0.0, 0.0));
     let h = 0.016;
     let rb = Rates::from_velocities(&b);
-    let (_, _, _, met) = tracked_step(ct, &p, &st, (&a, &Rates::HOLD), (&b, &rb), h, true);
+    let (_, _, _, met) = step_from(ct, &p, &st, (&a, &Rates::HOLD), (&b, &rb), h, true, None);
     assert_located(&met, 0.01, h, "normal force through zero");
 }
 
@@ -230,7 +233,7 @@ fn tracking_without_early_return_leaves_the_step_bit_for_bit() {
     let st = initial_state(ct, &p, &a, &b).expect("regular");
     let (ra, rb) = (Rates::HOLD, Rates::from_velocities(&b));
     let plain = advance(ct, &p, &st, (&a, &ra), (&b, &rb), 0.004).expect("regular");
-    let (o, next, b1, met) = tracked_step(ct, &p, &st, (&a, &ra), (&b, &rb), 0.004, false);
+    let (o, next, b1, met) = step_from(ct, &p, &st, (&a, &ra), (&b, &rb), 0.004, false, None);
     assert!(!met.stopped && met.count == 1);
     assert_located(&met, 0.002, 0.004, "stepped through");
     assert_eq!((o, next, b1), (plain.outputs, plain.state, plain.b));
@@ -244,7 +247,7 @@ fn a_step_stopped_at_an_event_commits_what_a_step_of_that_length_would() {
     let b = node(Vec3::zeros(), Vec3::new(0.0, 0.1, 0.0));
     let st = initial_state(ct, &p, &a, &b).expect("regular");
     let (ra, rb) = (Rates::HOLD, Rates::from_velocities(&b));
-    let (o, next, b1, met) = tracked_step(ct, &p, &st, (&a, &ra), (&b, &rb), 0.016, true);
+    let (o, next, b1, met) = step_from(ct, &p, &st, (&a, &ra), (&b, &rb), 0.016, true, None);
     let plain = advance(ct, &p, &st, (&a, &ra), (&b, &rb), met.tau).expect("regular");
     assert_eq!((o, next, b1), (plain.outputs, plain.state, plain.b));
 }
@@ -258,7 +261,7 @@ fn an_event_in_a_later_substep_is_located_there() {
     let b = node(Vec3::new(0.0075, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0));
     let st = initial_state(ct, &p, &a, &b).expect("regular");
     let (ra, rb) = (Rates::HOLD, Rates::from_velocities(&b));
-    let (_, next, _, met) = tracked_step(ct, &p, &st, (&a, &ra), (&b, &rb), 0.004, true);
+    let (_, next, _, met) = step_from(ct, &p, &st, (&a, &ra), (&b, &rb), 0.004, true, None);
     assert_located(&met, 0.0025, 0.004, "third substep");
     assert_eq!(next.stop_status[0], 1);
 }
@@ -336,7 +339,7 @@ fn assumed_sides_give_the_result_of_the_exact_start() {
             (&b, &rb),
             0.004,
             stop,
-            (&exact, true),
+            Some((&exact, true)),
         );
         let got = step_from(
             ct,
@@ -346,7 +349,7 @@ fn assumed_sides_give_the_result_of_the_exact_start() {
             (&b, &rb),
             0.004,
             stop,
-            (&sides_of(&exact), false),
+            Some((&sides_of(&exact), false)),
         );
         // (Met.end holds NaN for the functions not taking part: compared as bits)
         assert_eq!((got.0, got.1, got.2), (want.0, want.1, want.2));
@@ -376,7 +379,7 @@ fn an_assumed_crossing_is_checked_against_the_exact_start() {
         (&b, &rb),
         0.004,
         true,
-        (&assumed, false),
+        Some((&assumed, false)),
     );
     assert_eq!((met.count, met.stopped), (0, false));
     assert_eq!(next.stop_status[0], 1);

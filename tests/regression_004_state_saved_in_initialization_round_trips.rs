@@ -19,24 +19,6 @@ use std::ptr::null_mut;
 
 const OK: fmi2Status = fmi2Status::OK;
 
-/// Serializes the current state and reads it back into a new state handle.
-fn round_trip(f: &Fmu) -> fmi2FMUstate {
-    let mut s: fmi2FMUstate = null_mut();
-    assert_eq!(fmi2GetFMUstate(f.c, &mut s), OK);
-    let mut n = 0usize;
-    assert_eq!(fmi2SerializedFMUstateSize(f.c, s, &mut n), OK);
-    let mut bytes = vec![0u8; n];
-    assert_eq!(
-        fmi2SerializeFMUstate(f.c, s, bytes.as_mut_ptr().cast(), n),
-        OK
-    );
-    assert_eq!(fmi2FreeFMUstate(f.c, &mut s), OK);
-    let mut back: fmi2FMUstate = null_mut();
-    let status = fmi2DeSerializeFMUstate(f.c, bytes.as_ptr().cast(), n, &mut back);
-    assert_eq!(status, OK, "{:?}", f.log());
-    back
-}
-
 #[test]
 fn a_state_with_pending_cross_parameter_rules_round_trips() {
     for (setup, name) in [
@@ -62,7 +44,7 @@ fn a_state_with_pending_cross_parameter_rules_round_trips() {
                 let vr = f.vr("friction.coupling");
                 assert_eq!(fmi2SetInteger(f.c, &vr, 1, &1), OK);
             }
-            let mut s = round_trip(&f);
+            let mut s = f.round_trip_state();
             assert_eq!(fmi2SetFMUstate(f.c, s), OK, "{:?}", f.log());
             assert_eq!(fmi2FreeFMUstate(f.c, &mut s), OK);
             // initialization still refuses the combination, naming the parameter

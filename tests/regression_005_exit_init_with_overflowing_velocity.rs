@@ -14,7 +14,6 @@ use common::*;
 use connector_fmu::fmi2::exports::*;
 use connector_fmu::fmi2::types::*;
 use connector_fmu::variables::VARIANTS;
-use std::ptr::null_mut;
 
 const OK: fmi2Status = fmi2Status::OK;
 
@@ -54,23 +53,7 @@ fn initialization_with_overflowing_velocities_is_refused_and_recoverable() {
             f.exit_init();
             assert_eq!(f.step(0.0, 1e-3), OK, "{:?}", f.log());
             // the state round-trips through its bytes
-            let mut s: fmi2FMUstate = null_mut();
-            assert_eq!(fmi2GetFMUstate(f.c, &mut s), OK);
-            let mut size = 0usize;
-            assert_eq!(fmi2SerializedFMUstateSize(f.c, s, &mut size), OK);
-            let mut bytes = vec![0u8; size];
-            assert_eq!(
-                fmi2SerializeFMUstate(f.c, s, bytes.as_mut_ptr().cast(), size),
-                OK
-            );
-            let mut back: fmi2FMUstate = null_mut();
-            assert_eq!(
-                fmi2DeSerializeFMUstate(f.c, bytes.as_ptr().cast(), size, &mut back),
-                OK,
-                "{:?}",
-                f.log()
-            );
-            assert_eq!(fmi2FreeFMUstate(f.c, &mut s), OK);
+            let mut back = f.round_trip_state();
             assert_eq!(fmi2FreeFMUstate(f.c, &mut back), OK);
         }
     }

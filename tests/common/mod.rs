@@ -304,6 +304,28 @@ impl Fmu {
     pub fn step(&self, t: f64, h: f64) -> fmi2Status {
         fmi2DoStep(self.c, t, h, fmi2False)
     }
+
+    /// The current FMU state through its bytes: fmi2GetFMUstate, fmi2SerializeFMUstate and
+    /// fmi2DeSerializeFMUstate, each asserted OK; the returned state is the caller's to free.
+    pub fn round_trip_state(&self) -> fmi2FMUstate {
+        let mut s: fmi2FMUstate = std::ptr::null_mut();
+        assert_eq!(fmi2GetFMUstate(self.c, &mut s), fmi2Status::OK);
+        let mut n = 0usize;
+        assert_eq!(
+            fmi2SerializedFMUstateSize(self.c, s, &mut n),
+            fmi2Status::OK
+        );
+        let mut bytes = vec![0u8; n];
+        assert_eq!(
+            fmi2SerializeFMUstate(self.c, s, bytes.as_mut_ptr().cast(), n),
+            fmi2Status::OK
+        );
+        assert_eq!(fmi2FreeFMUstate(self.c, &mut s), fmi2Status::OK);
+        let mut back: fmi2FMUstate = std::ptr::null_mut();
+        let status = fmi2DeSerializeFMUstate(self.c, bytes.as_ptr().cast(), n, &mut back);
+        assert_eq!(status, fmi2Status::OK, "{:?}", self.log());
+        back
+    }
 }
 
 /// FNV-1a 64 of `bytes`, the checksum the serialized FMU state ends with: lets a test or the fuzz
