@@ -7,8 +7,10 @@
 //! −Σ F_k ∇c_k, i.e. the force vector f = Σ F_k e_k acts on node a as +f and on node b as −f.
 
 use super::friction::{self, Eval, FrictionOut, FrictionParams, FrictionState};
-use super::kinematics::{geometry_into, Branches, ConnectionType, Geometry, Node, Role, Singular};
-use super::math::{Real, Vec3};
+use super::kinematics::{
+    geometry_into, Branches, ConnectionType, Geometry, Node, Pose, Role, Singular,
+};
+use super::math::{lift, Real, Scalar, Vec3};
 
 /// A penalty pair: translational and rotational stiffness and damping.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -128,80 +130,100 @@ impl Params {
 
 /// Energy accounts (J).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Energy {
+pub struct Energy<T: Scalar = Real> {
     /// Stored in springs, penalties, stops and stick springs, at the current configuration.
-    pub stored: Real,
+    pub stored: T,
     /// Dissipated by dampers (components and constraint penalty) since initialization.
-    pub damping: Real,
+    pub damping: T,
     /// Dissipated by friction since initialization.
-    pub friction: Real,
+    pub friction: T,
     /// Dissipated by stops since initialization.
-    pub stops: Real,
+    pub stops: T,
 }
 
 /// State that influences the future: committed at the end of each accepted substep.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct State {
+pub struct State<T: Scalar = Real> {
     /// Angle branches and the RADIAL-THRUST direction.
     pub branches: Branches,
     /// Component positions at the end of initialization (CU = CP − c0; SLIDE-PLANE x0).
-    pub c0: [Real; 6],
+    pub c0: [T; 6],
     /// Stop status per component: −1 lower, 0 free, +1 upper.
     pub stop_status: [i8; 6],
     /// PLANAR friction state.
-    pub friction: FrictionState,
+    pub friction: FrictionState<T>,
     /// Dissipated energy accumulators (`stored` unused here).
-    pub dissipated: Energy,
+    pub dissipated: Energy<T>,
     /// Dissipation power (W) at the end of the last substep: damping, stops.
-    pub power: [Real; 2],
+    pub power: [T; 2],
 }
 
-impl Default for State {
+impl<T: Scalar> Default for State<T> {
     fn default() -> Self {
         State {
             branches: Branches::default(),
-            c0: [0.0; 6],
+            c0: [T::zero(); 6],
             stop_status: [0; 6],
             friction: FrictionState::default(),
             dissipated: Energy::default(),
-            power: [0.0; 2],
+            power: [T::zero(); 2],
+        }
+    }
+}
+
+impl State {
+    /// This state in any scalar (its values as constants).
+    pub fn lift<T: Scalar>(&self) -> State<T> {
+        let e = &self.dissipated;
+        State {
+            branches: self.branches,
+            c0: lift(self.c0),
+            stop_status: self.stop_status,
+            friction: self.friction.lift(),
+            dissipated: Energy {
+                stored: T::cst(e.stored),
+                damping: T::cst(e.damping),
+                friction: T::cst(e.friction),
+                stops: T::cst(e.stops),
+            },
+            power: lift(self.power),
         }
     }
 }
 
 /// Everything the connector reports at one instant, per component slot.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Outputs {
+pub struct Outputs<T: Scalar = Real> {
     /// CP / CPR: component position.
-    pub cp: [Real; 6],
+    pub cp: [T; 6],
     /// CU / CUR: motion from the initial state.
-    pub cu: [Real; 6],
+    pub cu: [T; 6],
     /// CV / CVR: relative velocity.
-    pub cv: [Real; 6],
+    pub cv: [T; 6],
     /// CEF / CEM: elastic force.
-    pub cef: [Real; 6],
+    pub cef: [T; 6],
     /// CVF / CVM: viscous force.
-    pub cvf: [Real; 6],
+    pub cvf: [T; 6],
     /// CSF / CSM: friction force.
-    pub csf: [Real; 6],
+    pub csf: [T; 6],
     /// CRF / CRM: constraint and stop reactions.
-    pub crf: [Real; 6],
+    pub crf: [T; 6],
     /// CTF / CTM: total.
-    pub ctf: [Real; 6],
+    pub ctf: [T; 6],
     /// CSLST: stop status.
     pub cslst: [i32; 6],
     /// Force on node a (W).
-    pub fa: Vec3,
+    pub fa: Vec3<T>,
     /// Moment on node a about x_a (W).
-    pub ma: Vec3,
+    pub ma: Vec3<T>,
     /// Force on node b (W).
-    pub fb: Vec3,
+    pub fb: Vec3<T>,
     /// Moment on node b about x_b (W).
-    pub mb: Vec3,
+    pub mb: Vec3<T>,
     /// PLANAR friction outputs.
-    pub friction: FrictionOut,
+    pub friction: FrictionOut<T>,
     /// Energy accounts.
-    pub energy: Energy,
+    pub energy: Energy<T>,
     /// event.time: the first event of the last step (set by the instance, not by `evaluate`).
     pub event_time: Real,
     /// event.count: the events of the last step (set by the instance, not by `evaluate`).
@@ -232,6 +254,7 @@ pub fn evaluate(
 /// outputs go straight into the instance's cache instead of being copied there).
 ///
 /// Every field of `o` and `next` is overwritten; on an error their contents are unspecified.
+#[inline(always)]
 pub fn evaluate_into(
     ct: ConnectionType,
     p: &Params,
@@ -241,18 +264,32 @@ pub fn evaluate_into(
     mode: Eval,
     out: (&mut Outputs, &mut State),
 ) -> Result<(), Singular> {
-    use super::kinematics::{Rotational as R, Translational as T};
+    evaluate_pose(ct, p, st, &Pose::of(a, b), mode, out)
+}
+
+/// `evaluate_into` at a pose, in any scalar: with `Dual` (the inputs seeded along a direction)
+/// the outputs carry their exact derivatives along it, the consistent tangent
+/// (`ModelInstance::directional_derivative`).
+pub fn evaluate_pose<T: Scalar>(
+    ct: ConnectionType,
+    p: &Params,
+    st: &State<T>,
+    pose: &Pose<T>,
+    mode: Eval,
+    out: (&mut Outputs<T>, &mut State<T>),
+) -> Result<(), Singular> {
+    use super::kinematics::{Rotational as R, Translational as T_};
     // One copy of the body per connection type of the variants, each with `ct` a constant:
     // the branches on the type and its roles fold away, and each variant runs only its own
     // code (the per-step path; other pairings take the general copy).
     macro_rules! per_type {
         ($(($t:ident, $r:ident)),*) => {
             match (ct.trans, ct.rot) {
-                $((T::$t, R::$r) => {
-                    const CT: ConnectionType = ConnectionType { trans: T::$t, rot: R::$r };
-                    evaluate_body(CT, p, st, a, b, mode, out)
+                $((T_::$t, R::$r) => {
+                    const CT: ConnectionType = ConnectionType { trans: T_::$t, rot: R::$r };
+                    evaluate_body(CT, p, st, pose, mode, out)
                 })*
-                _ => evaluate_body(ct, p, st, a, b, mode, out),
+                _ => evaluate_body(ct, p, st, pose, mode, out),
             }
         };
     }
@@ -265,20 +302,19 @@ pub fn evaluate_into(
     )
 }
 
-/// The body of `evaluate_into`, inlined into each of its per-type copies.
+/// The body of `evaluate_pose`, inlined into each of its per-type copies.
 #[inline(always)]
-fn evaluate_body(
+fn evaluate_body<T: Scalar>(
     ct: ConnectionType,
     p: &Params,
-    st: &State,
-    a: &Node,
-    b: &Node,
+    st: &State<T>,
+    pose: &Pose<T>,
     mode: Eval,
-    (o, next): (&mut Outputs, &mut State),
+    (o, next): (&mut Outputs<T>, &mut State<T>),
 ) -> Result<(), Singular> {
     let roles = ct.roles();
-    let mut g = Geometry::BLANK;
-    geometry_into(ct, a, b, &st.branches, &mut g)?;
+    let mut g = Geometry::blank();
+    geometry_into(ct, pose, &st.branches, &mut g)?;
     // `next` field by field (every field is written, none twice): what the evaluation does not
     // change is copied from `st`, the rest is written below
     next.branches = g.branches;
@@ -286,19 +322,20 @@ fn evaluate_body(
     next.dissipated = st.dissipated;
     // Every output is written below, from zero where it accumulates (writing the struct
     // as a whole first would cost a memset of all of it on every evaluation).
-    let mut stored = 0.0;
-    let mut p_damp = 0.0;
-    let mut p_stop = 0.0;
+    let zero = T::zero();
+    let mut stored = zero;
+    let mut p_damp = zero;
+    let mut p_stop = zero;
 
     for (k, role) in roles.iter().enumerate() {
         if *role == Role::Absent {
             next.stop_status[k] = st.stop_status[k];
-            (o.cp[k], o.cu[k], o.cv[k]) = (0.0, 0.0, 0.0);
-            (o.cef[k], o.cvf[k], o.crf[k], o.cslst[k]) = (0.0, 0.0, 0.0, 0);
+            (o.cp[k], o.cu[k], o.cv[k]) = (zero, zero, zero);
+            (o.cef[k], o.cvf[k], o.crf[k], o.cslst[k]) = (zero, zero, zero, 0);
             continue;
         }
         let c = g.pos[k];
-        let v = g.grad[k].rate(a, b);
+        let v = g.grad[k].rate(pose);
         o.cp[k] = c;
         o.cu[k] = c - st.c0[k];
         o.cv[k] = v;
@@ -306,32 +343,32 @@ fn evaluate_body(
             Role::Constrained => {
                 next.stop_status[k] = st.stop_status[k];
                 // penalty on the constraint: SLIDE-PLANE x = x0, REVOLUTE φ2 = φ3 = 0
-                let target = if k == 0 { st.c0[0] } else { 0.0 };
+                let target = if k == 0 { st.c0[0] } else { zero };
                 let (kp, cp) = p.constraint.for_slot(k);
                 let gap = c - target;
-                (o.cef[k], o.cvf[k], o.cslst[k]) = (0.0, 0.0, 0);
-                o.crf[k] = kp * gap + cp * v;
-                stored += 0.5 * kp * gap * gap;
-                p_damp += cp * v * v;
+                (o.cef[k], o.cvf[k], o.cslst[k]) = (zero, zero, 0);
+                o.crf[k] = gap * kp + v * cp;
+                stored += gap * (0.5 * kp) * gap;
+                p_damp += v * cp * v;
             }
             Role::Available => {
                 let reference = if p.ref_given[k] {
-                    p.ref_value[k]
+                    T::cst(p.ref_value[k])
                 } else {
                     st.c0[k]
                 };
                 let u_mat = c - reference;
-                o.cef[k] = p.k[k] * u_mat;
-                o.cvf[k] = p.c[k] * v;
-                stored += 0.5 * p.k[k] * u_mat * u_mat;
-                p_damp += p.c[k] * v * v;
+                o.cef[k] = u_mat * p.k[k];
+                o.cvf[k] = v * p.c[k];
+                stored += u_mat * (0.5 * p.k[k]) * u_mat;
+                p_damp += v * p.c[k] * v;
                 // stops act on positions, never pull
                 let (ks, cs) = p.stop.for_slot(k);
                 let (force, status, energy, power) =
                     stop_force(c, v, p.stop_lower[k], p.stop_upper[k], ks, cs);
                 // 0 + force, as when the reaction accumulated from zero: a stop force of −0
                 // reads +0
-                o.crf[k] = 0.0 + force;
+                o.crf[k] = force + 0.0;
                 o.cslst[k] = status as i32;
                 next.stop_status[k] = status;
                 stored += energy;
@@ -343,7 +380,7 @@ fn evaluate_body(
 
     // PLANAR friction: normal force and moment from the constraint reactions f1, m2, m3
     // (F_NC and M_NR1 are reported even when μ = 0 turns the friction force off)
-    o.csf = [0.0; 6];
+    o.csf = [zero; 6];
     o.friction = FrictionOut::default();
     if ct.rot != super::kinematics::Rotational::Revolute {
         next.friction = st.friction;
@@ -371,7 +408,7 @@ fn evaluate_body(
     (o.ma, o.fb, o.mb) = (Vec3::zeros(), Vec3::zeros(), Vec3::zeros());
     for k in 0..6 {
         let f = o.ctf[k];
-        if f != 0.0 {
+        if f.re() != 0.0 || f.eps() != 0.0 {
             let gr = &g.grad[k];
             o.ma -= gr.ta * f;
             o.fb -= gr.xb * f;
@@ -393,23 +430,17 @@ fn evaluate_body(
 /// The force never pulls: it is clipped at zero when the damper would make it adhesive
 /// (docs/physics.md, "Stops"). `power` is the dissipation rate (F − k·p)·ṗ ≥ 0, where p is the penetration.
 #[inline]
-fn stop_force(
-    c: Real,
-    v: Real,
-    lower: Real,
-    upper: Real,
-    k: Real,
-    d: Real,
-) -> (Real, i8, Real, Real) {
-    if c > upper {
+fn stop_force<T: Scalar>(c: T, v: T, lower: Real, upper: Real, k: Real, d: Real) -> (T, i8, T, T) {
+    let zero = T::zero();
+    if c.re() > upper {
         let pen = c - upper;
-        let f = (k * pen + d * v).max(0.0);
-        (f, 1, 0.5 * k * pen * pen, (f - k * pen) * v)
-    } else if c < lower {
-        let pen = lower - c;
-        let f = (k * pen - d * v).max(0.0);
-        (-f, -1, 0.5 * k * pen * pen, (f - k * pen) * (-v))
+        let f = (pen * k + v * d).max(zero);
+        (f, 1, pen * (0.5 * k) * pen, (f - pen * k) * v)
+    } else if c.re() < lower {
+        let pen = -(c - lower);
+        let f = (pen * k - v * d).max(zero);
+        (-f, -1, pen * (0.5 * k) * pen, (f - pen * k) * (-v))
     } else {
-        (0.0, 0, 0.0, 0.0)
+        (zero, 0, zero, zero)
     }
 }

@@ -22,62 +22,64 @@
 //! Here the formulas are written with K and D = (K − E)/k², which avoids the cancellations of
 //! small k ((1 + k²)E − (1 − k²)K = k²(2K − (1 + k²)D)).
 
-use super::math::Real;
+use super::math::{Real, Scalar};
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 
 /// K(k) and D(k) = (K − E)/k² for 0 ≤ k < 1 by the arithmetic–geometric mean
 /// (E = K(1 − Σ 2ⁿ⁻¹ cₙ²), c₀ = k, so D = K Σ 2ⁿ⁻¹ (cₙ/k)², a sum of positive terms).
-fn elliptic_k_d(k: Real) -> (Real, Real) {
-    if k == 0.0 {
-        return (FRAC_PI_2, FRAC_PI_4);
+/// With a `Dual` k the iteration carries the derivatives along; they converge with it.
+fn elliptic_k_d<T: Scalar>(k: T) -> (T, T) {
+    if k.re() == 0.0 {
+        // K and D are even in k: no derivative at 0
+        return (T::cst(FRAC_PI_2), T::cst(FRAC_PI_4));
     }
-    let kp = ((1.0 - k) * (1.0 + k)).sqrt();
-    let (mut a, mut b) = (1.0, kp);
-    let mut sum = 0.5; // 2⁻¹ (c₀/k)²
-    let mut c_k = k / (2.0 * (1.0 + kp)); // c₁/k = (1 − k')/(2k)
-    let mut w = 1.0; // 2ⁿ⁻¹ for n = 1
+    let kp = ((-k + 1.0) * (k + 1.0)).sqrt();
+    let (mut a, mut b) = (T::one(), kp);
+    let mut sum = T::cst(0.5); // 2⁻¹ (c₀/k)²
+    let mut c_k = k / ((kp + 1.0) * 2.0); // c₁/k = (1 − k')/(2k)
+    let mut w: Real = 1.0; // 2ⁿ⁻¹ for n = 1
     for _ in 0..40 {
-        sum += w * c_k * c_k;
-        let a_next = 0.5 * (a + b);
+        sum += c_k * w * c_k;
+        let a_next = (a + b) * 0.5;
         b = (a * b).sqrt();
         a = a_next;
-        if a - b <= 1e-16 * a {
+        if (a - b).re() <= 1e-16 * a.re() {
             break;
         }
-        c_k = 0.5 * (a - b) / k;
+        c_k = (a - b) * 0.5 / k;
         w *= 2.0;
     }
-    let kk = PI / (a + b); // π/(2 AGM)
+    let kk = T::cst(PI) / (a + b); // π/(2 AGM)
     (kk, kk * sum)
 }
 
 /// (F̂, M̂) of the disc at slip ratio ε = v/(Rω) given as ε = c/s with c, s ≥ 0 not both 0
 /// (c = cos χ, s = sin χ of the slip direction in (v, Rω), so that ε = ∞ is s = 0).
-pub fn disc_law(c: Real, s: Real) -> (Real, Real) {
-    if c <= s {
+pub fn disc_law<T: Scalar>(c: T, s: T) -> (T, T) {
+    if c.re() <= s.re() {
         // ε ≤ 1
         let k = c / s;
-        if k == 1.0 {
-            return (8.0 / (3.0 * PI), 8.0 / (9.0 * PI));
+        if k.re() == 1.0 {
+            return (T::cst(8.0 / (3.0 * PI)), T::cst(8.0 / (9.0 * PI)));
         }
         let (kk, d) = elliptic_k_d(k);
         let k2 = k * k;
-        let f = 4.0 * k / (3.0 * PI) * (2.0 * kk - (1.0 + k2) * d);
-        let m = 4.0 / (9.0 * PI) * ((3.0 - k2) * kk - (4.0 - 2.0 * k2) * k2 * d);
+        let f = k * 4.0 / (3.0 * PI) * (kk * 2.0 - (k2 + 1.0) * d);
+        let m = ((-k2 + 3.0) * kk - (-(k2 * 2.0) + 4.0) * k2 * d) * (4.0 / (9.0 * PI));
         (f, m)
     } else {
         // ε > 1, k = 1/ε < 1
         let k = s / c;
         let (kk, d) = elliptic_k_d(k);
         let k2 = k * k;
-        let f = 4.0 / (3.0 * PI) * (2.0 * kk - (1.0 + k2) * d);
+        let f = (kk * 2.0 - (k2 + 1.0) * d) * (4.0 / (3.0 * PI));
         // M̂ = 4/(9πk)·[(3k² − 1)K − (4k² − 2)D] cancels to O(k) as k → 0: the series
         // k/4 + k³/48 + 3k⁵/512 (from the integral (4k/3π)∫cos⁴u/√(1 − k² sin²u) du)
         // is exact to 1e-14 there
-        let m = if k <= 1e-2 {
-            k * (0.25 + k2 * (1.0 / 48.0 + k2 * 3.0 / 512.0))
+        let m = if k.re() <= 1e-2 {
+            k * (k2 * (k2 * 3.0 / 512.0 + 1.0 / 48.0) + 0.25)
         } else {
-            4.0 / (9.0 * PI * k) * ((3.0 * k2 - 1.0) * kk - (4.0 * k2 - 2.0) * d)
+            T::cst(4.0) / (k * (9.0 * PI)) * ((k2 * 3.0 - 1.0) * kk - (k2 * 4.0 - 2.0) * d)
         };
         (f, m)
     }

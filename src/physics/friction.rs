@@ -5,7 +5,7 @@
 //! a uniformly loaded disc (Contensou; `disc`).
 
 use super::disc::disc_law;
-use super::math::{norm2, Real};
+use super::math::{lift, norm2, Real, Scalar};
 use std::f64::consts::FRAC_PI_2;
 
 /// What an evaluation of the connector is for.
@@ -99,15 +99,16 @@ impl FrictionParams {
 
     /// μ at a slip rate (m/s).
     #[inline]
-    pub fn mu(&self, rate: Real) -> Real {
+    pub fn mu<T: Scalar>(&self, rate: T) -> T {
         if self.decay == 0.0 {
-            return self.mu_static;
+            return T::cst(self.mu_static);
         }
-        if rate == 0.0 {
-            // exp(−0) = 1 without calling exp (every step of a sticking contact)
-            return self.mu_kinetic + (self.mu_static - self.mu_kinetic);
+        if rate.re() == 0.0 {
+            // exp(−0) = 1 without calling exp (every step of a sticking contact); the rate is
+            // a speed, so 0 is its kink and has no derivative (the central difference's 0)
+            return T::cst(self.mu_kinetic + (self.mu_static - self.mu_kinetic));
         }
-        self.mu_kinetic + (self.mu_static - self.mu_kinetic) * (-self.decay * rate).exp()
+        (rate * -self.decay).exp() * (self.mu_static - self.mu_kinetic) + self.mu_kinetic
     }
 }
 
@@ -125,48 +126,68 @@ pub enum Status {
 
 /// Friction state per effect, saved with the FMU state.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
-pub struct FrictionState {
+pub struct FrictionState<T: Scalar = Real> {
     /// Plastic slip of sliding in the 2–3 plane (m); elastic slip = (y, z) − this.
-    pub slip_plastic: [Real; 2],
+    pub slip_plastic: [T; 2],
     /// Plastic spin slip about 1 (rad).
-    pub slip_plastic_r1: Real,
+    pub slip_plastic_r1: T,
     /// Accumulated sliding slip (m).
-    pub slip_acc: Real,
+    pub slip_acc: T,
     /// Accumulated spin slip (rad).
-    pub slip_acc_r1: Real,
+    pub slip_acc_r1: T,
     /// Sliding status.
     pub status: Status,
     /// Spin status.
     pub status_r1: Status,
     /// Energy dissipated by friction (J).
-    pub dissipated: Real,
+    pub dissipated: T,
     /// Slip speeds (m/s) at which μ was taken in the last return map, sliding (or coupled)
     /// and spin; 0 (μ = μ_s) when the effect entered it sticking.
-    pub mu_rate: [Real; 2],
+    pub mu_rate: [T; 2],
     /// Friction force and moment of the last return map (f2, f3, m1).
-    pub force: [Real; 3],
+    pub force: [T; 3],
     /// Elastic slip of the stick springs after the last return map (y, z, α parts; m, rad).
-    pub elastic: [Real; 3],
+    pub elastic: [T; 3],
     /// Plastic slip rate over the last substep (m/s, rad/s): the stick dampers act on the
     /// elastic slip rate, the relative rate minus this.
-    pub slip_rate: [Real; 3],
+    pub slip_rate: [T; 3],
+}
+
+impl FrictionState {
+    /// This state in any scalar (its values as constants).
+    #[inline(always)]
+    pub fn lift<T: Scalar>(&self) -> FrictionState<T> {
+        FrictionState {
+            slip_plastic: lift(self.slip_plastic),
+            slip_plastic_r1: T::cst(self.slip_plastic_r1),
+            slip_acc: T::cst(self.slip_acc),
+            slip_acc_r1: T::cst(self.slip_acc_r1),
+            status: self.status,
+            status_r1: self.status_r1,
+            dissipated: T::cst(self.dissipated),
+            mu_rate: lift(self.mu_rate),
+            force: lift(self.force),
+            elastic: lift(self.elastic),
+            slip_rate: lift(self.slip_rate),
+        }
+    }
 }
 
 /// Friction outputs (CNF, CNM1, CSFC, CSMC1, accumulated slip, status per effect).
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
-pub struct FrictionOut {
+pub struct FrictionOut<T: Scalar = Real> {
     /// CNF = F_NC (N).
-    pub cnf: Real,
+    pub cnf: T,
     /// CNM1 = M_NR1 (N.m).
-    pub cnm1: Real,
+    pub cnm1: T,
     /// CSFC: magnitude of the sliding friction force (N).
-    pub csfc: Real,
+    pub csfc: T,
     /// CSMC1: magnitude of the spin friction moment (N.m).
-    pub csmc1: Real,
+    pub csmc1: T,
     /// Accumulated sliding slip (m).
-    pub slip: Real,
+    pub slip: T,
     /// Accumulated spin slip (rad).
-    pub slip_r1: Real,
+    pub slip_r1: T,
     /// Sliding status.
     pub status: Status,
     /// Spin status.
@@ -175,28 +196,28 @@ pub struct FrictionOut {
 
 /// Result of one friction update.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct FrictionResult {
+pub struct FrictionResult<T: Scalar = Real> {
     /// Friction forces on components 2, 3 (N) and moment on 4 (N.m): CSF2, CSF3, CSM1.
-    pub force: [Real; 3],
+    pub force: [T; 3],
     /// Outputs.
-    pub out: FrictionOut,
+    pub out: FrictionOut<T>,
     /// Energy stored in the stick springs (J).
-    pub stored: Real,
+    pub stored: T,
     /// State after the return map.
-    pub state: FrictionState,
+    pub state: FrictionState<T>,
 }
 
 /// F_NC and M_NR1 from the constraint reactions f1, m2, m3 (the manual's PLANAR friction
 /// formulas; docs/physics.md, "Friction").
 #[inline]
-pub fn normal_loads(p: &FrictionParams, f1: Real, m2: Real, m3: Real) -> (Real, Real) {
+pub fn normal_loads<T: Scalar>(p: &FrictionParams, f1: T, m2: T, m3: T) -> (T, T) {
     let m_bend = norm2(m2, m3);
     let f1 = f1.abs();
     // "If R is 0.0, M_bend is ignored" (F_C) and "M_1 is ignored" (M_R1)
     let (f_c, m_1) = if p.radius > 0.0 {
-        (f1 + m_bend / p.radius, 2.0 / 3.0 * p.radius * f1)
+        (f1 + m_bend / p.radius, f1 * (2.0 / 3.0 * p.radius))
     } else {
-        (f1, 0.0)
+        (f1, T::zero())
     };
     let m_r1 = m_1 + m_bend;
     ((f_c + p.f_int).abs(), (m_r1 + p.m_int).abs())
@@ -220,14 +241,14 @@ pub fn normal_loads(p: &FrictionParams, f1: Real, m2: Real, m3: Real) -> (Real, 
 /// while it slips, μ = μ(relative slip speed). `Eval::Step` takes that choice afresh (a
 /// substep of the path); otherwise the speed of the last committed return map is reused, so
 /// that evaluating the connector again where a step ended reproduces that step's forces.
-pub fn update(
+pub fn update<T: Scalar>(
     p: &FrictionParams,
-    st: &FrictionState,
-    reaction: [Real; 3],
-    pos: [Real; 3],
-    rate: [Real; 3],
+    st: &FrictionState<T>,
+    reaction: [T; 3],
+    pos: [T; 3],
+    rate: [T; 3],
     mode: Eval,
-) -> FrictionResult {
+) -> FrictionResult<T> {
     let h = match mode {
         Eval::Step(h) => h,
         _ => Real::INFINITY,
@@ -241,28 +262,29 @@ pub fn update(
     };
     let (f_nc, m_nr1) = normal_loads(p, reaction[0], reaction[1], reaction[2]);
     let mut next = *st;
+    let zero = T::zero();
     if !p.enabled() {
         // friction off: no force, slip follows the motion, no stored energy
         next.slip_plastic = [pos[0], pos[1]];
         next.slip_plastic_r1 = pos[2];
         next.status = Status::NoNormal;
         next.status_r1 = Status::NoNormal;
-        next.mu_rate = [0.0; 2];
-        next.force = [0.0; 3];
-        next.elastic = [0.0; 3];
-        next.slip_rate = [0.0; 3];
+        next.mu_rate = [zero; 2];
+        next.force = [zero; 3];
+        next.elastic = [zero; 3];
+        next.slip_rate = [zero; 3];
         return FrictionResult {
-            force: [0.0; 3],
-            out: outputs(&next, f_nc, m_nr1, 0.0, 0.0),
-            stored: 0.0,
+            force: [zero; 3],
+            out: outputs(&next, f_nc, m_nr1, zero, zero),
+            stored: zero,
             state: next,
         };
     }
     // trial forces: stick springs and stick dampers with the plastic rates assumed (none in a
     // substep, the committed ones otherwise)
-    let rate_p = if stepping { [0.0; 3] } else { st.slip_rate };
-    let damper = |rate_p: [Real; 3]| damper(p, rate, rate_p);
-    let elastic = |st: &FrictionState| elastic(st, pos);
+    let rate_p = if stepping { [zero; 3] } else { st.slip_rate };
+    let damper = |rate_p: [T; 3]| damper(p, rate, rate_p);
+    let elastic = |st: &FrictionState<T>| elastic(st, pos);
     let [f_tr0, f_tr1, m_tr] = trial(p, st, pos, rate, rate_p);
     let f_tr = [f_tr0, f_tr1];
     // stiffness of the return: the spring and the damper over the substep; at the start the
@@ -279,10 +301,10 @@ pub fn update(
         1.0
     };
     let slide = norm2(rate[0], rate[1]);
-    let spin = rho * rate[2].abs();
-    let speed_for = |status: Status, v: Real, committed: Real| match (stepping, status) {
+    let spin = rate[2].abs() * rho;
+    let speed_for = |status: Status, v: T, committed: T| match (stepping, status) {
         (true, Status::Slip) => v,
-        (true, _) => 0.0,
+        (true, _) => zero,
         (false, _) => committed,
     };
 
@@ -290,14 +312,14 @@ pub fn update(
         // ellipsoidal limit surface |(f2, f3, m1/ρ)| ≤ μ F_NC, the disc's flow rule
         let v = speed_for(st.status, norm2(slide, spin), st.mu_rate[0]);
         next.mu_rate = [v, v];
-        let limit = (p.mu(v) * f_nc).min(p.max_force);
+        let limit = (p.mu(v) * f_nc).min(T::cst(p.max_force));
         let norm = (f_tr[0] * f_tr[0] + f_tr[1] * f_tr[1] + (m_tr / rho) * (m_tr / rho)).sqrt();
         let load = loading(st, pos, [f_tr[0], f_tr[1], m_tr]);
-        let flowing = on_limit_slips(stepping, load[0] + load[1], st.status);
+        let flowing = on_limit_slips(stepping, (load[0] + load[1]).re(), st.status);
         let (scale, status) = return_status(norm, limit, f_nc, (on_limit(0), flowing));
         next.status = status;
         next.status_r1 = status;
-        if scale == 1.0 {
+        if scale.re() == 1.0 {
             (f_tr, m_tr)
         } else if start {
             // onto the ellipsoid along the trial's direction: the start only needs a point of
@@ -306,7 +328,7 @@ pub fn update(
         } else {
             let f_abs = norm2(f_tr[0], f_tr[1]);
             let (f, m) = disc_flow_return(p.radius, rho, k_ret, f_abs, m_tr.abs(), limit);
-            let a = if f_abs > 0.0 { f / f_abs } else { 0.0 };
+            let a = if f_abs.re() > 0.0 { f / f_abs } else { zero };
             ([f_tr[0] * a, f_tr[1] * a], m.copysign(m_tr))
         }
     } else {
@@ -314,12 +336,12 @@ pub fn update(
         let v = speed_for(st.status, slide, st.mu_rate[0]);
         let v_r = speed_for(st.status_r1, spin, st.mu_rate[1]);
         next.mu_rate = [v, v_r];
-        let limit = (p.mu(v) * f_nc).min(p.max_force);
+        let limit = (p.mu(v) * f_nc).min(T::cst(p.max_force));
         let load = loading(st, pos, [f_tr[0], f_tr[1], m_tr]);
-        let flowing = on_limit_slips(stepping, load[0], st.status);
+        let flowing = on_limit_slips(stepping, load[0].re(), st.status);
         let (scale, status) =
             return_status(norm2(f_tr[0], f_tr[1]), limit, f_nc, (on_limit(0), flowing));
-        let flowing_r = on_limit_slips(stepping, load[1], st.status_r1);
+        let flowing_r = on_limit_slips(stepping, load[1].re(), st.status_r1);
         let (scale_r, status_r) = return_status(
             m_tr.abs(),
             p.mu(v_r) * m_nr1,
@@ -335,7 +357,7 @@ pub fn update(
     if start {
         // the excess over the limit is a plastic rate, (trial − returned)/c (a return happens
         // only with a damper: the trial of an unstretched spring alone is zero)
-        let per = |x: Real, c: Real| if x == 0.0 { 0.0 } else { x / c };
+        let per = |x: T, c: Real| if x.re() == 0.0 { zero } else { x / c };
         next.slip_rate = [
             per(excess[0], k_ret[0]),
             per(excess[1], k_ret[0]),
@@ -343,7 +365,7 @@ pub fn update(
         ];
     }
     let (ds, ds_r) = if start {
-        ([0.0; 2], 0.0)
+        ([zero; 2], zero)
     } else {
         (
             [excess[0] / k_ret[0], excess[1] / k_ret[0]],
@@ -361,7 +383,7 @@ pub fn update(
     // The force as spring and damper give it from the new plastic slip and rate: the same
     // expression a later evaluation at this point starts from, so both report the same bits.
     let (e1, d1) = (elastic(&next), damper(next.slip_rate));
-    let spring = [p.k_stick * e1[0], p.k_stick * e1[1], p.k_stick_r1 * e1[2]];
+    let spring = [e1[0] * p.k_stick, e1[1] * p.k_stick, e1[2] * p.k_stick_r1];
     let force = [spring[0] + d1[0], spring[1] + d1[1], spring[2] + d1[2]];
     next.dissipated += dissipation(p, st, &force, [ds[0], ds[1], ds_r], e1);
     next.force = force;
@@ -370,16 +392,16 @@ pub fn update(
     FrictionResult {
         force,
         out: outputs(&next, f_nc, m_nr1, csfc, force[2].abs()),
-        stored: 0.5
-            * ((spring[0] * spring[0] + spring[1] * spring[1]) / p.k_stick
-                + spring[2] * spring[2] / p.k_stick_r1),
+        stored: ((spring[0] * spring[0] + spring[1] * spring[1]) / p.k_stick
+            + spring[2] * spring[2] / p.k_stick_r1)
+            * 0.5,
         state: next,
     }
 }
 
 /// Elastic slip (y, z, α parts) at positions `pos` from the plastic slip of `st`.
 #[inline]
-fn elastic(st: &FrictionState, pos: [Real; 3]) -> [Real; 3] {
+fn elastic<T: Scalar>(st: &FrictionState<T>, pos: [T; 3]) -> [T; 3] {
     [
         pos[0] - st.slip_plastic[0],
         pos[1] - st.slip_plastic[1],
@@ -389,29 +411,29 @@ fn elastic(st: &FrictionState, pos: [Real; 3]) -> [Real; 3] {
 
 /// Stick damper forces at the relative rates `rate` with the plastic rates `rate_p`.
 #[inline]
-fn damper(p: &FrictionParams, rate: [Real; 3], rate_p: [Real; 3]) -> [Real; 3] {
+fn damper<T: Scalar>(p: &FrictionParams, rate: [T; 3], rate_p: [T; 3]) -> [T; 3] {
     [
-        p.c_stick * (rate[0] - rate_p[0]),
-        p.c_stick * (rate[1] - rate_p[1]),
-        p.c_stick_r1 * (rate[2] - rate_p[2]),
+        (rate[0] - rate_p[0]) * p.c_stick,
+        (rate[1] - rate_p[1]) * p.c_stick,
+        (rate[2] - rate_p[2]) * p.c_stick_r1,
     ]
 }
 
 /// Trial friction force and moment (f2, f3, m1): stick springs on the elastic slip from the
 /// plastic slip of `st`, stick dampers with the plastic rates `rate_p`.
 #[inline]
-pub fn trial(
+pub fn trial<T: Scalar>(
     p: &FrictionParams,
-    st: &FrictionState,
-    pos: [Real; 3],
-    rate: [Real; 3],
-    rate_p: [Real; 3],
-) -> [Real; 3] {
+    st: &FrictionState<T>,
+    pos: [T; 3],
+    rate: [T; 3],
+    rate_p: [T; 3],
+) -> [T; 3] {
     let (e, d) = (elastic(st, pos), damper(p, rate, rate_p));
     [
-        p.k_stick * e[0] + d[0],
-        p.k_stick * e[1] + d[1],
-        p.k_stick_r1 * e[2] + d[2],
+        e[0] * p.k_stick + d[0],
+        e[1] * p.k_stick + d[1],
+        e[2] * p.k_stick_r1 + d[2],
     ]
 }
 
@@ -443,30 +465,30 @@ pub fn stick_slip_function(
 /// elastic slip, ½(d0 + d1)·Δe with d = f − k e. With the stick springs' energy ½k e² this
 /// closes work = Δstored + dissipated exactly for the trapezoidal work ½(f0 + f1)·Δposition,
 /// also where μ changes from step to step (static → kinetic).
-fn dissipation(
+fn dissipation<T: Scalar>(
     p: &FrictionParams,
-    st: &FrictionState,
-    f1: &[Real; 3],
-    ds: [Real; 3],
-    e1: [Real; 3],
-) -> Real {
+    st: &FrictionState<T>,
+    f1: &[T; 3],
+    ds: [T; 3],
+    e1: [T; 3],
+) -> T {
     let f0 = &st.force;
     let plastic =
-        0.5 * ((f0[0] + f1[0]) * ds[0] + (f0[1] + f1[1]) * ds[1] + (f0[2] + f1[2]) * ds[2]);
-    let mut w = plastic.max(0.0);
+        ((f0[0] + f1[0]) * ds[0] + (f0[1] + f1[1]) * ds[1] + (f0[2] + f1[2]) * ds[2]) * 0.5;
+    let mut w = plastic.max(T::zero());
     let k = [p.k_stick, p.k_stick, p.k_stick_r1];
     let c = [p.c_stick, p.c_stick, p.c_stick_r1];
     for i in 0..3 {
         if c[i] > 0.0 {
             let e0 = st.elastic[i];
-            let (d0, d1) = (f0[i] - k[i] * e0, f1[i] - k[i] * e1[i]);
-            w += 0.5 * (d0 + d1) * (e1[i] - e0);
+            let (d0, d1) = (f0[i] - e0 * k[i], f1[i] - e1[i] * k[i]);
+            w += (d0 + d1) * 0.5 * (e1[i] - e0);
         }
     }
     w
 }
 
-fn outputs(st: &FrictionState, cnf: Real, cnm1: Real, csfc: Real, csmc1: Real) -> FrictionOut {
+fn outputs<T: Scalar>(st: &FrictionState<T>, cnf: T, cnm1: T, csfc: T, csmc1: T) -> FrictionOut<T> {
     FrictionOut {
         cnf,
         cnm1,
@@ -492,25 +514,20 @@ fn outputs(st: &FrictionState, cnf: Real, cnm1: Real, csfc: Real, csmc1: Real) -
 /// h(χ) = (F − f(χ)) k_r sin χ − (M − m(χ)) R k_s cos χ, with h(0) = −M R k_s ≤ 0 and
 /// h(π/2) = F k_r ≥ 0: a bracket, solved by the Illinois variant of false position.
 /// λ > 0 exactly when the trial lies outside the (convex) ellipsoid. Returns (f, m).
-fn disc_flow_return(
+///
+/// With `Dual` inputs the root is found on their values, and its derivative is the implicit
+/// function's, dχ = −(∂h/∂inputs·δ)/(∂h/∂χ), both exact (the iteration's own derivative is not
+/// taken).
+fn disc_flow_return<T: Scalar>(
     r: Real,
     rho: Real,
-    [k_s, k_r]: [Real; 2],
-    f_tr: Real,
-    m_tr: Real,
-    limit: Real,
-) -> (Real, Real) {
-    let on_surface = |chi: Real| {
-        let (s, c) = chi.sin_cos();
-        let (f_hat, m_hat) = disc_law(c.max(0.0), s.max(0.0));
-        let (x, y) = (f_hat, r * m_hat / rho);
-        let n = norm2(x, y);
-        (limit * x / n, rho * limit * y / n, s, c)
-    };
-    let h = |chi: Real| {
-        let (f, m, s, c) = on_surface(chi);
-        (f_tr - f) * k_r * s - (m_tr - m) * r * k_s * c
-    };
+    k_ret: [Real; 2],
+    f_tr: T,
+    m_tr: T,
+    limit: T,
+) -> (T, T) {
+    let (fr, mr, lr) = (f_tr.re(), m_tr.re(), limit.re());
+    let h = |chi: Real| disc_h(r, rho, k_ret, chi, (fr, mr, lr));
     let (mut a, mut ha) = (0.0, h(0.0));
     let (mut b, mut hb) = (FRAC_PI_2, h(FRAC_PI_2));
     let chi = if ha >= 0.0 {
@@ -537,14 +554,47 @@ fn disc_flow_return(
         }
         x
     };
-    let (f, m, _, _) = on_surface(chi);
+    let mut chi_t = T::cst(chi);
+    if T::DUAL && chi > 0.0 && chi < FRAC_PI_2 {
+        let along = disc_h(r, rho, k_ret, chi_t, (f_tr, m_tr, limit)).eps();
+        let (fc, mc, lc) = (T::cst(fr), T::cst(mr), T::cst(lr));
+        let slope = disc_h(r, rho, k_ret, chi_t.with_eps(1.0), (fc, mc, lc)).eps();
+        if slope != 0.0 {
+            chi_t = chi_t.with_eps(-along / slope);
+        }
+    }
+    let (f, m, _, _) = disc_on_surface(r, rho, chi_t, limit);
     (f, m)
+}
+
+/// The point of the ellipsoid of size `limit` in the disc's direction at slip angle χ, with
+/// sin χ and cos χ: (f, m, sin χ, cos χ).
+#[inline]
+fn disc_on_surface<T: Scalar>(r: Real, rho: Real, chi: T, limit: T) -> (T, T, T, T) {
+    let (s, c) = chi.sin_cos();
+    let (f_hat, m_hat) = disc_law(c.max(T::zero()), s.max(T::zero()));
+    let (x, y) = (f_hat, m_hat * r / rho);
+    let n = norm2(x, y);
+    (limit * x / n, limit * rho * y / n, s, c)
+}
+
+/// h(χ) of `disc_flow_return` for the trial (F, M) and the limit L.
+#[inline]
+fn disc_h<T: Scalar>(
+    r: Real,
+    rho: Real,
+    [k_s, k_r]: [Real; 2],
+    chi: T,
+    (f_tr, m_tr, limit): (T, T, T),
+) -> T {
+    let (f, m, s, c) = disc_on_surface(r, rho, chi, limit);
+    (f_tr - f) * k_r * s - (m_tr - m) * r * k_s * c
 }
 
 /// How much the motion since the committed state loaded each stick spring along its trial
 /// force (sliding, spin): the elastic slip's change dotted with the force (> 0: loading).
 #[inline]
-fn loading(st: &FrictionState, pos: [Real; 3], f: [Real; 3]) -> [Real; 2] {
+fn loading<T: Scalar>(st: &FrictionState<T>, pos: [T; 3], f: [T; 3]) -> [T; 2] {
     let e = elastic(st, pos);
     let d = [
         e[0] - st.elastic[0],
@@ -574,33 +624,36 @@ pub const ON_LIMIT: Real = 1e-9;
 /// whose branch of the return map a tangent evaluation keeps; `flowing`: whether a trial on
 /// the limit within round-off slips (`on_limit_slips`).
 #[inline]
-fn return_status(
-    trial: Real,
-    limit: Real,
-    normal: Real,
+fn return_status<T: Scalar>(
+    trial: T,
+    limit: T,
+    normal: T,
     (branch, flowing): (Option<Status>, bool),
-) -> (Real, Status) {
+) -> (T, Status) {
+    let (one, normal) = (T::one(), normal.re());
     // the tangent's branch: a slipping effect on its limit, a sticking one elastic
     match branch {
-        Some(Status::Slip) if normal > 0.0 && trial > 0.0 => return (limit / trial, Status::Slip),
-        Some(Status::Stick) if normal > 0.0 => return (1.0, Status::Stick),
+        Some(Status::Slip) if normal > 0.0 && trial.re() > 0.0 => {
+            return (limit / trial, Status::Slip)
+        }
+        Some(Status::Stick) if normal > 0.0 => return (one, Status::Stick),
         _ => {}
     }
     // On the limit within round-off there is no further return: re-evaluating the connector
     // where a slip step ended puts the trial force back on the limit (to round-off, either
     // side), and that is the same slip with the same force (`on_limit_slips`). A contact
     // brought to rest on its limit sticks from its first substep at rest.
-    if normal > 0.0 && (trial - limit).abs() <= ON_LIMIT * limit {
+    if normal > 0.0 && (trial - limit).re().abs() <= ON_LIMIT * limit.re() {
         let status = if flowing { Status::Slip } else { Status::Stick };
-        return (1.0, status);
+        return (one, status);
     }
-    if trial <= limit {
+    if trial.re() <= limit.re() {
         let s = if normal > 0.0 {
             Status::Stick
         } else {
             Status::NoNormal
         };
-        (1.0, s)
+        (one, s)
     } else {
         let s = if normal > 0.0 {
             Status::Slip

@@ -1,8 +1,9 @@
 //! The state at the end of initialization.
 
-use super::connector::{evaluate, Params, State};
+use super::connector::{evaluate_pose, Outputs, Params, State};
 use super::friction::Eval;
-use super::kinematics::{geometry, Branches, ConnectionType, Node, Singular};
+use super::kinematics::{geometry_into, Branches, ConnectionType, Geometry, Node, Pose, Singular};
+use super::math::Scalar;
 
 /// The initial state for nodes (a, b): component positions become the initial values
 /// (CU = 0, SLIDE-PLANE x0), angle branches start on their principal values, friction starts
@@ -14,7 +15,19 @@ pub fn initial_state(
     a: &Node,
     b: &Node,
 ) -> Result<State, Singular> {
-    let g = geometry(ct, a, b, &Branches::default())?;
+    initial_state_at(ct, p, &Pose::of(a, b))
+}
+
+/// `initial_state` at a pose, in any scalar (with `Dual`, the initial state's derivative along
+/// the seeded inputs: the tangent of the outputs in initialization mode, where the initial
+/// positions move with the inputs).
+pub fn initial_state_at<T: Scalar>(
+    ct: ConnectionType,
+    p: &Params,
+    pose: &Pose<T>,
+) -> Result<State<T>, Singular> {
+    let mut g = Geometry::blank();
+    geometry_into(ct, pose, &Branches::default(), &mut g)?;
     let mut st = State {
         branches: g.branches,
         c0: g.pos,
@@ -22,7 +35,8 @@ pub fn initial_state(
     };
     st.friction.slip_plastic = [g.pos[1], g.pos[2]];
     st.friction.slip_plastic_r1 = g.pos[3];
-    let (_, next) = evaluate(ct, p, &st, a, b, Eval::Start)?;
+    let (mut o, mut next) = (Outputs::default(), State::default());
+    evaluate_pose(ct, p, &st, pose, Eval::Start, (&mut o, &mut next))?;
     st.stop_status = next.stop_status;
     st.friction.status = next.friction.status;
     st.friction.status_r1 = next.friction.status_r1;

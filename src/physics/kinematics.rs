@@ -7,7 +7,9 @@
 //! velocities and node loads (virtual work) both follow from these gradients, so the loads
 //! are exactly in equilibrium and a purely elastic connector is exactly conservative.
 
-use super::math::{continue_branch, norm2, Mat3, Quat, Real, SinCos, Vec3};
+use super::math::{
+    continue_branch, lift3, norm2, norm3, rotation_of, Mat3, Quat, Real, Scalar, SinCos, Vec3,
+};
 
 /// Pose and twist of one node, all in W.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -125,15 +127,15 @@ impl ConnectionType {
 
 /// Gradient of one component with respect to the node motions (all in W).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Grad {
+pub struct Grad<T: Scalar = Real> {
     /// ∂c/∂x_a
-    pub xa: Vec3,
+    pub xa: Vec3<T>,
     /// ∂c/∂θ_a
-    pub ta: Vec3,
+    pub ta: Vec3<T>,
     /// ∂c/∂x_b
-    pub xb: Vec3,
+    pub xb: Vec3<T>,
     /// ∂c/∂θ_b
-    pub tb: Vec3,
+    pub tb: Vec3<T>,
 }
 
 impl Grad {
@@ -152,13 +154,88 @@ impl Default for Grad {
     }
 }
 
-impl Grad {
+impl<T: Scalar> Grad<T> {
+    /// A component that does not depend on the node motions.
+    #[inline(always)]
+    pub fn zero() -> Grad<T> {
+        Grad {
+            xa: Vec3::zeros(),
+            ta: Vec3::zeros(),
+            xb: Vec3::zeros(),
+            tb: Vec3::zeros(),
+        }
+    }
+
     /// Rate of the component for the node twists: ċ = ∇c · (v_a, ω_a, v_b, ω_b), written
     /// with ∂c/∂x_a = −∂c/∂x_b (every component depends on the positions through
     /// d = x_b − x_a only).
     #[inline]
-    pub fn rate(&self, a: &Node, b: &Node) -> Real {
-        self.xb.dot(&(b.v - a.v)) + self.ta.dot(&a.w) + self.tb.dot(&b.w)
+    pub fn rate(&self, p: &Pose<T>) -> T {
+        self.xb.dot(&p.dv) + self.ta.dot(&p.wa) + self.tb.dot(&p.wb)
+    }
+}
+
+/// The two nodes as the kinematics reads them: frames, relative position and twists (W).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pose<T: Scalar = Real> {
+    /// Node a's frame (columns e1a, e2a, e3a).
+    pub ra: Mat3<T>,
+    /// Node b's frame.
+    pub rb: Mat3<T>,
+    /// d = x_b − x_a.
+    pub d: Vec3<T>,
+    /// v_b − v_a.
+    pub dv: Vec3<T>,
+    /// ω_a.
+    pub wa: Vec3<T>,
+    /// ω_b.
+    pub wb: Vec3<T>,
+}
+
+impl Pose {
+    /// The pose of nodes a and b.
+    #[inline(always)]
+    pub fn of(a: &Node, b: &Node) -> Pose {
+        Pose {
+            ra: *a.q.to_rotation_matrix().matrix(),
+            rb: *b.q.to_rotation_matrix().matrix(),
+            d: b.r - a.r,
+            dv: b.v - a.v,
+            wa: a.w,
+            wb: b.w,
+        }
+    }
+}
+
+/// A node's raw inputs (x, q as w, i, j, k, v, ω) with their derivatives along a direction.
+pub type NodeDual = [super::math::Dual; 13];
+
+impl Pose<super::math::Dual> {
+    /// The pose of two nodes given as raw inputs with derivatives: the quaternions normalised
+    /// as `math::quat_from_wxyz` does (its value; the derivative is that of q/|q|, which the
+    /// inputs' round-off rule does not change), so the value is `Pose::of` of the same nodes
+    /// bit for bit.
+    pub fn of_inputs(a: &NodeDual, b: &NodeDual) -> Self {
+        use super::math::{quat_from_wxyz, Dual};
+        let frame = |u: &NodeDual| {
+            let q = [u[3], u[4], u[5], u[6]];
+            let n = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt();
+            // the value as the Real path reads it; a refused quaternion never gets here (the
+            // inputs were checked when set), and would give NaN, which the caller refuses
+            let unit = quat_from_wxyz(q[0].re, q[1].re, q[2].re, q[3].re)
+                .map_or([Real::NAN; 4], |x| [x.w, x.i, x.j, x.k]);
+            let q: [Dual; 4] = std::array::from_fn(|i| Dual::new(unit[i], (q[i] / n).eps));
+            rotation_of(q[0], q[1], q[2], q[3])
+        };
+        let v = |u: &NodeDual, i: usize| Vec3::new(u[i], u[i + 1], u[i + 2]);
+        Pose {
+            ra: frame(a),
+            rb: frame(b),
+            d: v(b, 0) - v(a, 0),
+            dv: v(b, 7) - v(a, 7),
+            wa: v(a, 10),
+            wb: v(b, 10),
+        }
     }
 }
 
@@ -253,13 +330,13 @@ pub enum Singular {
 
 /// Component positions, their gradients and the local directions.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Geometry {
+pub struct Geometry<T: Scalar = Real> {
     /// Position c_k of every component (slot k−1); 0 for absent slots.
-    pub pos: [Real; 6],
+    pub pos: [T; 6],
     /// Gradient of every component.
-    pub grad: [Grad; 6],
+    pub grad: [Grad<T>; 6],
     /// Local connector directions {e1, e2, e3} as columns (in W).
-    pub triad: Mat3,
+    pub triad: Mat3<T>,
     /// Updated branches (committed by the caller only when the step is accepted).
     pub branches: Branches,
 }
@@ -291,21 +368,38 @@ impl Geometry {
     };
 }
 
+impl<T: Scalar> Geometry<T> {
+    /// `Geometry::BLANK` in any scalar (all zero; the same value for `Real`).
+    #[inline(always)]
+    pub fn blank() -> Geometry<T> {
+        Geometry {
+            pos: [T::zero(); 6],
+            grad: [Grad::zero(); 6],
+            triad: Mat3::zeros(),
+            branches: Branches {
+                beta: 0.0,
+                alpha: 0.0,
+                e_r_local: Vec3::zeros(),
+            },
+        }
+    }
+}
+
 /// The centred projection triad (docs/physics.md, "Centred projection triad") with the flexion–torsion angles and Jacobians.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Centred {
+pub struct Centred<T: Scalar = Real> {
     /// {e1, e2, e3} as columns.
-    pub triad: Mat3,
+    pub triad: Mat3<T>,
     /// (α1, α2, β), β on its continuous branch.
-    pub angles: Vec3,
+    pub angles: Vec3<T>,
     /// Total flexion α.
-    pub alpha: Real,
+    pub alpha: T,
     /// K = ∂(α1, α2, β)/∂θ_b (rows); ∂/∂θ_a = −K.
-    pub k: Mat3,
+    pub k: Mat3<T>,
     /// A = ∂ψ/∂θ_a, the triad's rotation for a rotation of node a (W).
-    pub a: Mat3,
+    pub a: Mat3<T>,
     /// B = ∂ψ/∂θ_b; A + B = I.
-    pub b: Mat3,
+    pub b: Mat3<T>,
 }
 
 /// The centred triad and angles (the four construction steps in docs/physics.md), with exact
@@ -313,19 +407,23 @@ pub struct Centred {
 ///
 /// Parametrisation used for the derivatives: R_a = R_c·E(−v)·Z(−β/2), R_b = R_c·E(v)·Z(β/2),
 /// v = (α1/2, α2/2, 0) in triad coordinates (E = exponential map, Z = rotation about 3).
-pub fn centred(ra: &Mat3, rb: &Mat3, beta_prev: Real) -> Result<Centred, Singular> {
+pub fn centred<T: Scalar>(
+    ra: &Mat3<T>,
+    rb: &Mat3<T>,
+    beta_prev: Real,
+) -> Result<Centred<T>, Singular> {
     let (e1a, e2a, e3a) = (ra.column(0), ra.column(1), ra.column(2));
     let (e1b, e2b, e3b) = (rb.column(0), rb.column(1), rb.column(2));
     // 1. total flexion α and α·q = (α / sin α)(e3a × e3b), smooth at α → 0
     let w = e3a.cross(&e3b);
-    let s = w.norm();
+    let s = norm3(&w);
     let c = e3a.dot(&e3b);
     let alpha = s.atan2(c);
-    if !alpha.is_finite() {
+    if !alpha.re().is_finite() {
         return Err(Singular::NotFinite);
     }
-    if alpha > std::f64::consts::PI - ALPHA_MAX_GAP {
-        return Err(Singular::FlexionNearPi(alpha));
+    if alpha.re() > std::f64::consts::PI - ALPHA_MAX_GAP {
+        return Err(Singular::FlexionNearPi(alpha.re()));
     }
     // s = |e3a × e3b| and c are sin α and cos α, so α/sin α needs no sine of its own
     let phi = w * SinCos {
@@ -336,14 +434,14 @@ pub fn centred(ra: &Mat3, rb: &Mat3, beta_prev: Real) -> Result<Centred, Singula
     .x_over_sin();
     // 2. frame a rotated by +α/2 about q: its third axis is the bisector e3 (Rodrigues, with
     //    the sine and cosine of α/2 that the Jacobians below need too)
-    let th = SinCos::of(0.5 * alpha);
+    let th = SinCos::of(alpha * 0.5);
     let ra_half = rotate_about(&w, s, &th, ra);
     // 3. torsion β (the manual's formula on the original frames), continued from the previous value
     let beta_raw = (e2a.dot(&e1b) - e1a.dot(&e2b)).atan2(e1a.dot(&e1b) + e2a.dot(&e2b));
     let beta = continue_branch(beta_raw, beta_prev);
     // 4. {e1, e2, e3} = Rot(e3, β/2)·Rot(q, α/2)·{frame a}: ra_half·rot_z(β/2) column by
     //    column (the zeros of rot_z left out)
-    let (sb, cb) = (0.5 * beta).sin_cos();
+    let (sb, cb) = (beta * 0.5).sin_cos();
     let (h0, h1c) = (ra_half.column(0), ra_half.column(1));
     let triad = Mat3::from_columns(&[
         h0 * cb + h1c * sb,
@@ -357,15 +455,15 @@ pub fn centred(ra: &Mat3, rb: &Mat3, beta_prev: Real) -> Result<Centred, Singula
     // in-plane block (θ/sin θ)(I − q̂q̂ᵀ) + q̂q̂ᵀ, torsion 1/cos θ, θ = α/2.
     let a_s = th.x_over_sin();
     // (1 − a_s)/α², smooth: a_s ≈ 1 + α²/24 → −1/24
-    let coef = if alpha < 1e-4 {
-        -1.0 / 24.0
+    let coef = if alpha.re() < 1e-4 {
+        T::cst(-1.0 / 24.0)
     } else {
-        (1.0 - a_s) / (alpha * alpha)
+        (-a_s + 1.0) / (alpha * alpha)
     };
     // M⁻¹ is symmetric with the in-plane block (m11 m12; m12 m22) and the torsion entry m33:
     // K = M⁻¹·triadᵀ, i.e. Kᵀ = triad·M⁻¹ column by column
     let (m11, m12, m22) = (a_s + coef * a1 * a1, coef * a1 * a2, a_s + coef * a2 * a2);
-    let m33 = 1.0 / th.cos;
+    let m33 = T::one() / th.cos;
     let (t0, t1, t2) = (triad.column(0), triad.column(1), triad.column(2));
     let k_t = Mat3::from_columns(&[t0 * m11 + t1 * m12, t0 * m12 + t1 * m22, t2 * m33]);
     let k = k_t.transpose();
@@ -378,7 +476,7 @@ pub fn centred(ra: &Mat3, rb: &Mat3, beta_prev: Real) -> Result<Centred, Singula
     let (k1, k2, k3) = (k_t.column(0), k_t.column(1), k_t.column(2));
     let nk = Mat3::from_columns(&[k3 * n13, k3 * n23, k1 * n31 + k2 * n32]).transpose();
     let rnk = triad * nk;
-    let half = Mat3::identity() * 0.5;
+    let half = Mat3::<T>::identity() * T::cst(0.5);
     Ok(Centred {
         triad,
         angles: Vec3::new(a1, a2, beta),
@@ -391,16 +489,28 @@ pub fn centred(ra: &Mat3, rb: &Mat3, beta_prev: Real) -> Result<Centred, Singula
 
 /// The columns of `m` rotated by the angle `th` about the unit axis w/|w| (|w| = `w_norm`):
 /// v cos θ + (q × v) sin θ + q (q·v)(1 − cos θ). No rotation when w = 0.
+///
+/// Its derivative at w = 0 (shafts aligned, α = 0, θ = α/2): the rotation vector θ·w/|w| is
+/// w/2 + O(|w|³), so the columns turn by δw/2 (the central difference there; the formula's
+/// q = w/|w| has no derivative).
 #[inline]
-fn rotate_about(w: &Vec3, w_norm: Real, th: &SinCos, m: &Mat3) -> Mat3 {
-    if w_norm == 0.0 {
+fn rotate_about<T: Scalar>(w: &Vec3<T>, w_norm: T, th: &SinCos<T>, m: &Mat3<T>) -> Mat3<T> {
+    if w_norm.re() == 0.0 {
+        if T::DUAL {
+            let half = w * T::cst(0.5);
+            return Mat3::from_columns(&[
+                m.column(0) + half.cross(&m.column(0)),
+                m.column(1) + half.cross(&m.column(1)),
+                m.column(2) + half.cross(&m.column(2)),
+            ]);
+        }
         return *m;
     }
     let q = w / w_norm;
     let mut out = *m;
     for j in 0..3 {
-        let v: Vec3 = m.column(j).into();
-        let r = v * th.cos + q.cross(&v) * th.sin + q * (q.dot(&v) * (1.0 - th.cos));
+        let v: Vec3<T> = m.column(j).into();
+        let r = v * th.cos + q.cross(&v) * th.sin + q * (q.dot(&v) * (-th.cos + 1.0));
         out.set_column(j, &r);
     }
     out
@@ -417,33 +527,31 @@ pub fn geometry(
     prev: &Branches,
 ) -> Result<Geometry, Singular> {
     let mut g = Geometry::BLANK;
-    geometry_into(ct, a, b, prev, &mut g)?;
+    geometry_into(ct, &Pose::of(a, b), prev, &mut g)?;
     Ok(g)
 }
 
-/// `geometry` written into `g` (the per-step path, `connector::evaluate_into`: no copy of the
-/// result). Every field of `g` is overwritten; on an error its contents are unspecified.
+/// `geometry` at a pose, written into `g` (the per-step path, `connector::evaluate_into`: no
+/// copy of the result). Every field of `g` is overwritten; on an error its contents are
+/// unspecified.
 ///
 /// A caller that starts from `Geometry::BLANK` (all bits zero) lets the compiler drop that
 /// zeroing where this function overwrites it: with the connection type a constant, every store
 /// below is to a known place (a `Result<Geometry, _>` returned by value was copied instead,
 /// 736 bytes, and so was a start from `Geometry::ZERO`, whose identity triad is not zero bits).
 #[inline(always)]
-pub fn geometry_into(
+pub fn geometry_into<T: Scalar>(
     ct: ConnectionType,
-    a: &Node,
-    b: &Node,
+    pose: &Pose<T>,
     prev: &Branches,
-    g: &mut Geometry,
+    g: &mut Geometry<T>,
 ) -> Result<(), Singular> {
-    let ra = *a.q.to_rotation_matrix().matrix();
-    let rb = *b.q.to_rotation_matrix().matrix();
-    let d = b.r - a.r;
+    let (ra, rb, d) = (pose.ra, pose.rb, pose.d);
     // only the slots the connection type leaves absent are zeroed, the others are written below
     for (k, role) in ct.roles().iter().enumerate() {
         if *role == Role::Absent {
-            g.pos[k] = 0.0;
-            g.grad[k] = Grad::ZERO;
+            g.pos[k] = T::zero();
+            g.grad[k] = Grad::zero();
         }
     }
     g.triad = ra;
@@ -455,11 +563,11 @@ pub fn geometry_into(
     if centred_triad {
         let cen = centred(&ra, &rb, prev.beta)?;
         g.triad = cen.triad;
-        g.branches.beta = cen.angles.z;
+        g.branches.beta = cen.angles.z.re();
         tri_a = cen.a;
         if ct.rot == Rotational::ProjectionFlexionTorsion {
             for i in 0..3 {
-                let row: Vec3 = cen.k.row(i).transpose();
+                let row: Vec3<T> = cen.k.row(i).transpose();
                 g.pos[3 + i] = cen.angles[i];
                 g.grad[3 + i] = Grad {
                     xa: Vec3::zeros(),
@@ -476,7 +584,7 @@ pub fn geometry_into(
         Translational::ProjectionCartesian | Translational::SlidePlane => {
             // x_i = e_i·d; δx_i = e_i·(δx_b − δx_a) + δψ·(e_i × d)
             for i in 0..3 {
-                let e: Vec3 = g.triad.column(i).into();
+                let e: Vec3<T> = g.triad.column(i).into();
                 let exd = e.cross(&d);
                 let ta = tri_a.transpose() * exd;
                 g.pos[i] = e.dot(&d);
@@ -495,15 +603,19 @@ pub fn geometry_into(
             }
         }
         Translational::RadialThrust => {
-            let e3a: Vec3 = ra.column(2).into();
+            let e3a: Vec3<T> = ra.column(2).into();
             let d_loc = ra.transpose() * d;
             let r = norm2(d_loc.x, d_loc.y);
             let l = d_loc.z;
             // Why: e_r = d⊥/r is undefined on the axis; keep the last well-defined direction.
-            if r > R_MIN {
-                g.branches.e_r_local = Vec3::new(d_loc.x / r, d_loc.y / r, 0.0);
-            }
-            let e_r = ra * g.branches.e_r_local;
+            let e_r_local = if r.re() > R_MIN {
+                let e = Vec3::new(d_loc.x / r, d_loc.y / r, T::zero());
+                g.branches.e_r_local = e.map(|x| x.re());
+                e
+            } else {
+                lift3(&prev.e_r_local)
+            };
+            let e_r = ra * e_r_local;
             g.pos[0] = r;
             g.grad[0] = Grad {
                 xa: -e_r,
@@ -522,21 +634,21 @@ pub fn geometry_into(
     }
 
     if ct.rot == Rotational::Revolute {
-        let (e2a, e3a): (Vec3, Vec3) = (ra.column(1).into(), ra.column(2).into());
-        let (e1b, e3b): (Vec3, Vec3) = (rb.column(0).into(), rb.column(2).into());
+        let (e2a, e3a): (Vec3<T>, Vec3<T>) = (ra.column(1).into(), ra.column(2).into());
+        let (e1b, e3b): (Vec3<T>, Vec3<T>) = (rb.column(0).into(), rb.column(2).into());
         // α = −atan((e2a·e3b)/(e3a·e3b)) = atan2(Y, X), Y = −e2a·e3b, X = e3a·e3b
         let y = -e2a.dot(&e3b);
         let x = e3a.dot(&e3b);
         let rr = x * x + y * y;
-        if rr.is_nan() || rr <= 1e-12 {
-            return Err(if rr.is_finite() {
+        if rr.re().is_nan() || rr.re() <= 1e-12 {
+            return Err(if rr.re().is_finite() {
                 Singular::RevoluteUndefined
             } else {
                 Singular::NotFinite
             });
         }
         let alpha = continue_branch(y.atan2(x), prev.alpha);
-        g.branches.alpha = alpha;
+        g.branches.alpha = alpha.re();
         // δ(e_ia·e_jb) = δθ_b·(e_jb × e_ia) + δθ_a·(e_ia × e_jb)
         let dy_tb = -e3b.cross(&e2a);
         let dy_ta = -e2a.cross(&e3b);
@@ -566,7 +678,7 @@ pub fn geometry_into(
         };
     }
 
-    if g.pos.iter().all(|p| p.is_finite()) {
+    if g.pos.iter().all(|p| p.re().is_finite()) {
         Ok(())
     } else {
         Err(Singular::NotFinite)

@@ -1,15 +1,390 @@
 //! Small math prelude for the kernel: static nalgebra types only (no heap).
 
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
+use std::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssign};
 
 /// Scalar type of the kernel.
 pub type Real = f64;
 /// A 3-vector in some frame (the name of the variable says which).
-pub type Vec3 = Vector3<Real>;
+pub type Vec3<T = Real> = Vector3<T>;
 /// A 3×3 matrix; as a rotation its columns are the frame's unit axes in W.
-pub type Mat3 = Matrix3<Real>;
+pub type Mat3<T = Real> = Matrix3<T>;
 /// Unit quaternion, scalar first, mapping node-local coordinates to W.
 pub type Quat = UnitQuaternion<Real>;
+
+/// The kernel's scalar: `Real` for the step and the reads, `Dual` for the consistent tangent
+/// (the same formulas, differentiated exactly along one input direction). Branches of the
+/// formulas (stops, friction status, series near 0, angle branches) are decided on the value
+/// alone (`re`), so a `Dual` evaluation takes the branches of the `Real` one at the same point.
+pub trait Scalar:
+    nalgebra::Scalar
+    + Copy
+    + Default
+    + PartialOrd
+    + num_traits::Zero
+    + num_traits::One
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + AddAssign
+    + SubAssign
+    + MulAssign
+    + DivAssign
+    + Add<Real, Output = Self>
+    + Sub<Real, Output = Self>
+    + Mul<Real, Output = Self>
+    + Div<Real, Output = Self>
+{
+    /// Whether this scalar carries a derivative (code only the tangent needs is left out of
+    /// the `Real` copies).
+    const DUAL: bool;
+    /// The value.
+    fn re(self) -> Real;
+    /// A constant (no derivative).
+    fn cst(x: Real) -> Self;
+    /// √x; its derivative at 0 is taken as 0 (the central difference of |·| at 0).
+    fn sqrt(self) -> Self;
+    /// (sin x, cos x).
+    fn sin_cos(self) -> (Self, Self);
+    /// sin x.
+    fn sin(self) -> Self;
+    /// cos x.
+    fn cos(self) -> Self;
+    /// eˣ.
+    fn exp(self) -> Self;
+    /// atan2(self, x).
+    fn atan2(self, x: Self) -> Self;
+    /// |x| (derivative 0 at 0, as the central difference).
+    fn abs(self) -> Self;
+    /// The larger by value (`f64::max`: a NaN loses).
+    fn max(self, other: Self) -> Self;
+    /// The smaller by value (`f64::min`: a NaN loses).
+    fn min(self, other: Self) -> Self;
+    /// |self| with the sign of `sign`'s value.
+    fn copysign(self, sign: Self) -> Self;
+    /// libm's hypot.
+    fn hypot(self, y: Self) -> Self;
+    /// Replaces the derivative (a `Real` ignores it).
+    fn with_eps(self, eps: Real) -> Self;
+    /// The derivative (0 for a `Real`).
+    fn eps(self) -> Real;
+}
+
+impl Scalar for Real {
+    const DUAL: bool = false;
+    #[inline(always)]
+    fn re(self) -> Real {
+        self
+    }
+    #[inline(always)]
+    fn cst(x: Real) -> Self {
+        x
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        f64::sqrt(self)
+    }
+    #[inline(always)]
+    fn sin_cos(self) -> (Self, Self) {
+        f64::sin_cos(self)
+    }
+    #[inline(always)]
+    fn sin(self) -> Self {
+        f64::sin(self)
+    }
+    #[inline(always)]
+    fn cos(self) -> Self {
+        f64::cos(self)
+    }
+    #[inline(always)]
+    fn exp(self) -> Self {
+        f64::exp(self)
+    }
+    #[inline(always)]
+    fn atan2(self, x: Self) -> Self {
+        f64::atan2(self, x)
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        f64::abs(self)
+    }
+    #[inline(always)]
+    fn max(self, other: Self) -> Self {
+        f64::max(self, other)
+    }
+    #[inline(always)]
+    fn min(self, other: Self) -> Self {
+        f64::min(self, other)
+    }
+    #[inline(always)]
+    fn copysign(self, sign: Self) -> Self {
+        f64::copysign(self, sign)
+    }
+    #[inline(always)]
+    fn hypot(self, y: Self) -> Self {
+        f64::hypot(self, y)
+    }
+    #[inline(always)]
+    fn with_eps(self, _eps: Real) -> Self {
+        self
+    }
+    #[inline(always)]
+    fn eps(self) -> Real {
+        0.0
+    }
+}
+
+/// A dual number re + eps·ε (ε² = 0): evaluating a formula on it gives the value and the
+/// exact derivative along the direction the inputs' `eps` were seeded with (forward-mode
+/// differentiation; no step size, no truncation). Compared by value alone.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Dual {
+    /// The value.
+    pub re: Real,
+    /// The derivative along the seeded direction.
+    pub eps: Real,
+}
+
+impl Dual {
+    /// re + eps·ε.
+    #[inline(always)]
+    pub const fn new(re: Real, eps: Real) -> Dual {
+        Dual { re, eps }
+    }
+    /// f(re) with derivative f'(re)·eps.
+    #[inline(always)]
+    fn chain(self, f: Real, df: Real) -> Dual {
+        Dual::new(f, df * self.eps)
+    }
+}
+
+impl PartialEq for Dual {
+    #[inline(always)]
+    fn eq(&self, other: &Self) -> bool {
+        self.re == other.re
+    }
+}
+
+impl PartialOrd for Dual {
+    #[inline(always)]
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        self.re.partial_cmp(&other.re)
+    }
+}
+
+impl num_traits::Zero for Dual {
+    #[inline(always)]
+    fn zero() -> Self {
+        Dual::new(0.0, 0.0)
+    }
+    #[inline(always)]
+    fn is_zero(&self) -> bool {
+        self.re == 0.0 && self.eps == 0.0
+    }
+}
+
+impl num_traits::One for Dual {
+    #[inline(always)]
+    fn one() -> Self {
+        Dual::new(1.0, 0.0)
+    }
+}
+
+impl Add for Dual {
+    type Output = Dual;
+    #[inline(always)]
+    fn add(self, o: Dual) -> Dual {
+        Dual::new(self.re + o.re, self.eps + o.eps)
+    }
+}
+impl Sub for Dual {
+    type Output = Dual;
+    #[inline(always)]
+    fn sub(self, o: Dual) -> Dual {
+        Dual::new(self.re - o.re, self.eps - o.eps)
+    }
+}
+impl Mul for Dual {
+    type Output = Dual;
+    #[inline(always)]
+    fn mul(self, o: Dual) -> Dual {
+        Dual::new(self.re * o.re, self.eps * o.re + self.re * o.eps)
+    }
+}
+impl Div for Dual {
+    type Output = Dual;
+    #[inline(always)]
+    fn div(self, o: Dual) -> Dual {
+        let q = self.re / o.re;
+        Dual::new(q, (self.eps - q * o.eps) / o.re)
+    }
+}
+impl Neg for Dual {
+    type Output = Dual;
+    #[inline(always)]
+    fn neg(self) -> Dual {
+        Dual::new(-self.re, -self.eps)
+    }
+}
+impl Add<Real> for Dual {
+    type Output = Dual;
+    #[inline(always)]
+    fn add(self, o: Real) -> Dual {
+        Dual::new(self.re + o, self.eps)
+    }
+}
+impl Sub<Real> for Dual {
+    type Output = Dual;
+    #[inline(always)]
+    fn sub(self, o: Real) -> Dual {
+        Dual::new(self.re - o, self.eps)
+    }
+}
+impl Mul<Real> for Dual {
+    type Output = Dual;
+    #[inline(always)]
+    fn mul(self, o: Real) -> Dual {
+        Dual::new(self.re * o, self.eps * o)
+    }
+}
+impl Div<Real> for Dual {
+    type Output = Dual;
+    #[inline(always)]
+    fn div(self, o: Real) -> Dual {
+        Dual::new(self.re / o, self.eps / o)
+    }
+}
+macro_rules! dual_assign {
+    ($($tr:ident $f:ident $op:tt),*) => {$(
+        impl $tr for Dual {
+            #[inline(always)]
+            fn $f(&mut self, o: Dual) {
+                *self = *self $op o;
+            }
+        }
+    )*};
+}
+dual_assign!(AddAssign add_assign +, SubAssign sub_assign -, MulAssign mul_assign *, DivAssign div_assign /);
+
+impl Scalar for Dual {
+    const DUAL: bool = true;
+    #[inline(always)]
+    fn re(self) -> Real {
+        self.re
+    }
+    #[inline(always)]
+    fn cst(x: Real) -> Self {
+        Dual::new(x, 0.0)
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        let r = self.re.sqrt();
+        Dual::new(r, if r == 0.0 { 0.0 } else { 0.5 * self.eps / r })
+    }
+    #[inline(always)]
+    fn sin_cos(self) -> (Self, Self) {
+        let (s, c) = self.re.sin_cos();
+        (self.chain(s, c), self.chain(c, -s))
+    }
+    #[inline(always)]
+    fn sin(self) -> Self {
+        let (s, c) = self.re.sin_cos();
+        self.chain(s, c)
+    }
+    #[inline(always)]
+    fn cos(self) -> Self {
+        let (s, c) = self.re.sin_cos();
+        self.chain(c, -s)
+    }
+    #[inline(always)]
+    fn exp(self) -> Self {
+        let e = self.re.exp();
+        self.chain(e, e)
+    }
+    #[inline(always)]
+    fn atan2(self, x: Self) -> Self {
+        let (y, r2) = (self, x.re * x.re + self.re * self.re);
+        let d = if r2 == 0.0 {
+            0.0
+        } else {
+            (x.re * y.eps - y.re * x.eps) / r2
+        };
+        Dual::new(y.re.atan2(x.re), d)
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        if self.re > 0.0 {
+            self
+        } else if self.re < 0.0 {
+            -self
+        } else {
+            Dual::new(self.re.abs(), 0.0)
+        }
+    }
+    #[inline(always)]
+    fn max(self, other: Self) -> Self {
+        if other.re > self.re || self.re.is_nan() {
+            other
+        } else {
+            self
+        }
+    }
+    #[inline(always)]
+    fn min(self, other: Self) -> Self {
+        if other.re < self.re || self.re.is_nan() {
+            other
+        } else {
+            self
+        }
+    }
+    #[inline(always)]
+    fn copysign(self, sign: Self) -> Self {
+        let r = self.re.copysign(sign.re);
+        if (r > 0.0) == (self.re > 0.0) {
+            Dual::new(r, self.eps)
+        } else {
+            Dual::new(r, -self.eps)
+        }
+    }
+    #[inline(always)]
+    fn hypot(self, y: Self) -> Self {
+        let h = self.re.hypot(y.re);
+        let d = if h == 0.0 {
+            0.0
+        } else {
+            (self.re * self.eps + y.re * y.eps) / h
+        };
+        Dual::new(h, d)
+    }
+    #[inline(always)]
+    fn with_eps(self, eps: Real) -> Self {
+        Dual::new(self.re, eps)
+    }
+    #[inline(always)]
+    fn eps(self) -> Real {
+        self.eps
+    }
+}
+
+/// A `Real` array lifted to constants of `T`.
+#[inline(always)]
+pub fn lift<T: Scalar, const N: usize>(x: [Real; N]) -> [T; N] {
+    x.map(T::cst)
+}
+
+/// A `Real` vector lifted to constants of `T`.
+#[inline(always)]
+pub fn lift3<T: Scalar>(v: &Vec3) -> Vec3<T> {
+    Vec3::new(T::cst(v.x), T::cst(v.y), T::cst(v.z))
+}
+
+/// |v| as √(v·v) (nalgebra's `norm` needs a complex field).
+#[inline(always)]
+pub fn norm3<T: Scalar>(v: &Vec3<T>) -> T {
+    v.dot(v).sqrt()
+}
 
 /// Rotation matrix of the rotation vector `phi` (exponential map), smooth at 0.
 #[inline]
@@ -36,12 +411,12 @@ pub fn quat_exp(phi: &Vec3) -> Quat {
 /// underflow (1e-150 ≤ |(x, y)| ≤ 1e150), else libm's `hypot`, which is several times
 /// slower and sits on the per-step path of friction and RADIAL-THRUST.
 #[inline]
-pub fn norm2(x: Real, y: Real) -> Real {
+pub fn norm2<T: Scalar>(x: T, y: T) -> T {
     let n = (x * x + y * y).sqrt();
-    if (1e-150..=1e150).contains(&n) {
+    if (1e-150..=1e150).contains(&n.re()) {
         n
-    } else if x == 0.0 && y == 0.0 {
-        0.0
+    } else if x.re() == 0.0 && y.re() == 0.0 {
+        T::zero()
     } else {
         x.hypot(y)
     }
@@ -71,11 +446,11 @@ pub fn wrap_pi(x: Real) -> Real {
 ///
 /// Why: atan2 jumps by 2π; connector angles (β, PLANAR's α) accumulate turns.
 #[inline]
-pub fn continue_branch(raw: Real, prev: Real) -> Real {
+pub fn continue_branch<T: Scalar>(raw: T, prev: Real) -> T {
     // raw + 2πm (not prev + wrap(raw − prev)): applied again to its own result it returns the
     // same bits, so re-evaluating where a step ended reproduces that step's angles exactly
     let two_pi = 2.0 * std::f64::consts::PI;
-    raw + two_pi * ((prev - raw) / two_pi).round()
+    raw + two_pi * ((prev - raw.re()) / two_pi).round()
 }
 
 /// `x / sin x`, smooth through 0 (series below 1e-4, where the error is below 1e-17).
@@ -111,29 +486,29 @@ pub fn one_minus_cos_over_sq(x: Real) -> Real {
 /// An angle with its sine and cosine, for several of the smooth ratios of one angle at the
 /// cost of one sin_cos: the formulas of the free functions, so the same values bit for bit.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SinCos {
+pub struct SinCos<T = Real> {
     /// The angle x (rad).
-    pub x: Real,
+    pub x: T,
     /// sin x.
-    pub sin: Real,
+    pub sin: T,
     /// cos x.
-    pub cos: Real,
+    pub cos: T,
 }
 
-impl SinCos {
+impl<T: Scalar> SinCos<T> {
     /// x with sin x and cos x.
     #[inline]
-    pub fn of(x: Real) -> SinCos {
+    pub fn of(x: T) -> SinCos<T> {
         let (sin, cos) = x.sin_cos();
         SinCos { x, sin, cos }
     }
 
     /// `x / sin x`, smooth through 0 (series below 1e-4, where the error is below 1e-17).
     #[inline]
-    pub fn x_over_sin(&self) -> Real {
+    pub fn x_over_sin(&self) -> T {
         let x = self.x;
-        if x.abs() < 1e-4 {
-            1.0 + x * x / 6.0
+        if x.re().abs() < 1e-4 {
+            x * x / 6.0 + 1.0
         } else {
             x / self.sin
         }
@@ -141,10 +516,10 @@ impl SinCos {
 
     /// `sin x / x`, smooth through 0.
     #[inline]
-    pub fn sinc(&self) -> Real {
+    pub fn sinc(&self) -> T {
         let x = self.x;
-        if x.abs() < 1e-4 {
-            1.0 - x * x / 6.0
+        if x.re().abs() < 1e-4 {
+            -(x * x / 6.0) + 1.0
         } else {
             self.sin / x
         }
@@ -152,14 +527,39 @@ impl SinCos {
 
     /// `(1 − cos x) / x²`, smooth through 0.
     #[inline]
-    pub fn one_minus_cos_over_sq(&self) -> Real {
+    pub fn one_minus_cos_over_sq(&self) -> T {
         let x = self.x;
-        if x.abs() < 1e-4 {
-            0.5 - x * x / 24.0
+        if x.re().abs() < 1e-4 {
+            -(x * x / 24.0) + 0.5
         } else {
-            (1.0 - self.cos) / (x * x)
+            (-self.cos + 1.0) / (x * x)
         }
     }
+}
+
+/// The rotation matrix of a unit quaternion (w, i, j, k): nalgebra's
+/// `UnitQuaternion::to_rotation_matrix` written for any scalar (the same products and sums,
+/// so the same bits for `Real`).
+#[inline]
+pub fn rotation_of<T: Scalar>(w: T, i: T, j: T, k: T) -> Mat3<T> {
+    let (ww, ii, jj, kk) = (w * w, i * i, j * j, k * k);
+    let ij = i * j * 2.0;
+    let wk = w * k * 2.0;
+    let wj = w * j * 2.0;
+    let ik = i * k * 2.0;
+    let jk = j * k * 2.0;
+    let wi = w * i * 2.0;
+    Mat3::new(
+        ww + ii - jj - kk,
+        ij - wk,
+        wj + ik,
+        wk + ij,
+        ww - ii + jj - kk,
+        jk - wi,
+        ik - wj,
+        wi + jk,
+        ww - ii - jj + kk,
+    )
 }
 
 /// Unit quaternion from scalar-first components, normalised.
