@@ -1201,6 +1201,72 @@ fn dump_bits(path: &str) {
     println!("wrote {path}");
 }
 
+/// BENCH_TANGENT=1: what one directional derivative costs against one kernel evaluation, on
+/// every variant with its behaviours on, a quarter period into its path: interleaved batches of
+/// (a) fmi2GetDirectionalDerivative of every continuous output along one node input (b.r[2],
+/// b.r[1] or b.q.x where that is what there is), (b) fmi2SetReal of one input to a new value and
+/// fmi2GetReal of one output (one kernel evaluation at the new inputs, plus the two calls),
+/// medians of 15 batches of 2000 calls; printed as ns per call and the ratio (a)/(b).
+fn tangent_cost() {
+    println!("variant, ns per directional derivative, ns per set+get (one evaluation), ratio");
+    for v in [
+        Variant::Planar,
+        Variant::ProjectionCartesian,
+        Variant::ProjectionFlexionTorsion,
+        Variant::Bushing,
+        Variant::RadialThrust,
+    ] {
+        let mut f = real_instance(v, &params_on(v));
+        rounds(&REAL, &mut f, PERIOD / 4);
+        let t = table(v);
+        let cont: Vec<u32> = t
+            .vars
+            .iter()
+            .filter(|x| x.causality == Causality::Output)
+            .filter(|x| x.variability == connector_fmu::variables::Variability::Continuous)
+            .map(|x| x.vr)
+            .collect();
+        let seed = ["b.r[2]", "b.r[1]", "b.q.x"]
+            .iter()
+            .find_map(|n| t.vars.iter().find(|x| x.name == *n))
+            .map(|x| x.vr)
+            .expect("a node input");
+        let mut x = 0.0;
+        ok(f.env, fmi::fmi2GetReal(f.c, &seed, 1, &mut x), "seed input");
+        let mut dd = vec![0.0; cont.len()];
+        let (mut a, mut b) = (vec![], vec![]);
+        const N: usize = 2000;
+        for _ in 0..15 {
+            let t0 = Instant::now();
+            for _ in 0..N {
+                let s = fmi::fmi2GetDirectionalDerivative(
+                    f.c,
+                    cont.as_ptr(),
+                    cont.len(),
+                    &seed,
+                    1,
+                    &1.0,
+                    dd.as_mut_ptr(),
+                );
+                ok(f.env, s, "directional derivative");
+            }
+            a.push(t0.elapsed().as_nanos() as f64 / N as f64);
+            let t0 = Instant::now();
+            let mut y = 0.0;
+            for i in 0..N {
+                // alternate between two values, so that every get evaluates afresh
+                let u = x + if i % 2 == 0 { 1e-9 } else { 0.0 };
+                ok(f.env, fmi::fmi2SetReal(f.c, &seed, 1, &u), "set");
+                ok(f.env, fmi::fmi2GetReal(f.c, &cont[0], 1, &mut y), "get");
+            }
+            b.push(t0.elapsed().as_nanos() as f64 / N as f64);
+            std::hint::black_box((&dd, y));
+        }
+        let (ma, mb) = (median(&mut a), median(&mut b));
+        println!("{}, {ma:.0}, {mb:.0}, {:.2}", name_of(v), ma / mb);
+    }
+}
+
 fn env_usize(name: &str) -> Option<usize> {
     std::env::var(name).ok().and_then(|s| s.parse().ok())
 }
@@ -1216,6 +1282,10 @@ fn main() {
     };
     if let Ok(path) = std::env::var("BENCH_DUMP") {
         dump_bits(&path);
+        return;
+    }
+    if std::env::var("BENCH_TANGENT").is_ok() {
+        tangent_cost();
         return;
     }
     let write_files = full && only.is_none();

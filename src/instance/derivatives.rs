@@ -42,11 +42,14 @@ impl ModelInstance {
     /// (`Eval::Tangent`): where a slipping step ended, the return map's slip tangent; where an
     /// effect sticks (also held at rest on its limit), the stick spring's; never the average of
     /// the stick and slip sides of the kink.
-    /// Computed as the central difference of the kernel's output function along dknown,
-    /// (y(u + εδ) − y(u − εδ))/(2ε), ε = 1e-8·max(1, |u|)/|δ|: truncation O((ε/ℓ)²) with ℓ the
-    /// smallest length over which the response bends (an elastic stick slip of µm still gives
-    /// 1e-4 relative), round-off O(1e-16·|y|/ε), far below the stiffnesses involved;
-    /// exact up to round-off for a linear connector. The committed state is not touched.
+    ///
+    /// Analytic: one evaluation of the kernel in dual numbers (`math::Dual`) with the inputs
+    /// seeded along dknown gives J·dknown exactly, up to round-off: the kinematics' first and
+    /// second derivatives (the gradients' own derivatives enter the rates and node loads),
+    /// the quaternions' normalisation, and the constitutive tangents (springs, dampers, stops,
+    /// penalties, stick springs, the return map, the coupled mode's disc flow by the implicit
+    /// function). At a kink (a stop's contact, |·| at 0) it is the central difference's value
+    /// there. The committed state is not touched.
     pub fn directional_derivative(
         &mut self,
         unknowns: &[u32],
@@ -64,38 +67,30 @@ impl ModelInstance {
                 )));
             }
         }
-        let mut scale: Real = 1.0;
         let mut dmax: Real = 0.0;
         for (&vr, &d) in knowns.iter().zip(dknown) {
-            let (node, idx) = self.finite_input(vr, d, "seed")?;
-            scale = scale.max(self.s.inputs[node][idx].abs());
+            self.finite_input(vr, d, "seed")?;
             dmax = dmax.max(d.abs());
         }
         if dmax == 0.0 {
             out.iter_mut().for_each(|x| *x = 0.0);
             return Ok(());
         }
-        // J·δ is linear in δ: difference along δ/max|δ| and scale back by max|δ|, so that
-        // neither huge nor denormal seeds make ε overflow or underflow (regression 003)
-        let eps = 1e-8 * scale;
+        // J·δ is linear in δ: seeded with δ/max|δ| and scaled back by max|δ|, so that neither
+        // huge nor denormal seeds overflow or underflow inside the kernel (regression 003)
+        let mut seed = [[0.0; 13]; 2];
+        for (&vr, &d) in knowns.iter().zip(dknown) {
+            if let Some(Field::Input { node, idx }) = self.table.get(vr).map(|v| v.field) {
+                seed[node as usize][idx as usize] += d / dmax;
+            }
+        }
         // effects slipping at the current inputs are differentiated on their slip branch
         let here = self.outputs()?.friction;
         let mode = Eval::Tangent([here.status, here.status_r1]);
-        let shifted = |sign: Real| {
-            let mut u = self.s.inputs;
-            for (&vr, &d) in knowns.iter().zip(dknown) {
-                if let Some(Field::Input { node, idx }) = self.table.get(vr).map(|v| v.field) {
-                    u[node as usize][idx as usize] += sign * eps * (d / dmax);
-                }
-            }
-            u
-        };
-        let plus = self.evaluate_at(&shifted(1.0), mode)?;
-        let minus = self.evaluate_at(&shifted(-1.0), mode)?;
+        let o = self.tangent_at(&seed, mode)?;
         for (&vr, slot) in unknowns.iter().zip(out.iter_mut()) {
             let v = self.var(vr, Ty::Real)?;
-            let d =
-                dmax * ((read_output(&plus, v.field) - read_output(&minus, v.field)) / (2.0 * eps));
+            let d = dmax * read_output(&o, v.field).eps;
             if !d.is_finite() {
                 return Err(FmuError::error(format!(
                     "the derivative of {} along dvKnown is not finite (the seed's size {dmax:e} takes it beyond the range of a double)",

@@ -17,12 +17,15 @@ use crate::model::access::{nodes_of, non_finite_cause};
 use crate::model::slots::{real_tables, RealTables};
 use crate::model::snapshot::{NodeInputs, Snapshot};
 use crate::model::variables::{table, Table, Variant};
-use crate::physics::connector::{evaluate_into, Outputs, State};
+use crate::physics::connector::{evaluate_into, evaluate_pose, Outputs, State};
 use crate::physics::friction::Eval;
-use crate::physics::init::initial_state;
-use crate::physics::kinematics::{ConnectionType, Node, Singular};
-use crate::physics::math::Real;
+use crate::physics::init::{initial_state, initial_state_at};
+use crate::physics::kinematics::{ConnectionType, Node, NodeDual, Pose, Singular};
+use crate::physics::math::{Dual, Real};
 use cache::OutputCache;
+
+#[cfg(test)]
+mod tangent_tests;
 
 pub use crate::model::snapshot::Mode;
 pub(crate) use values::type_name;
@@ -305,6 +308,26 @@ impl ModelInstance {
     fn evaluate_at(&self, inputs: &[NodeInputs; 2], mode: Eval) -> FmuResult<Outputs> {
         let mut o = Outputs::default();
         evaluate_at_into(self.table, self.ct, &self.s, inputs, mode, &mut o)?;
+        Ok(o)
+    }
+
+    /// The outputs with their exact derivatives along the direction `seed` of the inputs
+    /// (forward-mode, `math::Dual`), at the current inputs and committed state (in
+    /// initialization: with the state the instance would start from, which moves with the
+    /// inputs). `mode` is `Eval::Tangent`: friction on the branch of its status here.
+    fn tangent_at(&self, seed: &[NodeInputs; 2], mode: Eval) -> FmuResult<Outputs<Dual>> {
+        let u = &self.s.inputs;
+        let dual: [NodeDual; 2] =
+            std::array::from_fn(|n| std::array::from_fn(|i| Dual::new(u[n][i], seed[n][i])));
+        let pose = Pose::of_inputs(&dual[0], &dual[1]);
+        let p = &self.s.params;
+        let st = if self.s.mode == Mode::InitializationMode {
+            initial_state_at(self.ct, p, &pose).map_err(singular_error)?
+        } else {
+            self.s.state.lift()
+        };
+        let (mut o, mut next) = (Outputs::default(), State::default());
+        evaluate_pose(self.ct, p, &st, &pose, mode, (&mut o, &mut next)).map_err(singular_error)?;
         Ok(o)
     }
 

@@ -9,7 +9,7 @@ use super::variables::{
 use crate::error::{FmuError, FmuResult};
 use crate::physics::connector::{Extrapolation, Outputs, Params};
 use crate::physics::kinematics::Node;
-use crate::physics::math::{quat_from_wxyz, Real, Vec3};
+use crate::physics::math::{quat_from_wxyz, Real, Scalar, Vec3};
 
 /// FMI base types, for the type check of get/set calls.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -224,7 +224,7 @@ pub fn read_int_param(p: &Params, f: Field) -> i32 {
 
 /// Node load 3·which + i: fa, ma, fb, mb.
 #[inline]
-fn load(o: &Outputs, j: u8) -> Real {
+fn load<T: Scalar>(o: &Outputs<T>, j: u8) -> T {
     let v = match j / 3 {
         0 => &o.fa,
         1 => &o.ma,
@@ -235,7 +235,7 @@ fn load(o: &Outputs, j: u8) -> Real {
 }
 
 /// A Real output's value.
-pub fn read_output(o: &Outputs, f: Field) -> Real {
+pub fn read_output<T: Scalar>(o: &Outputs<T>, f: Field) -> T {
     match f {
         Field::Load { which, i } => load(o, 3 * which + i),
         Field::Comp { out, k } => {
@@ -260,17 +260,17 @@ pub fn read_output(o: &Outputs, f: Field) -> Real {
                 FrictionField::Csmc1 => fr.csmc1,
                 FrictionField::Slip => fr.slip,
                 FrictionField::SlipR1 => fr.slip_r1,
-                FrictionField::Status => fr.status as i32 as Real,
-                FrictionField::StatusR1 => fr.status_r1 as i32 as Real,
+                FrictionField::Status => T::cst(fr.status as i32 as Real),
+                FrictionField::StatusR1 => T::cst(fr.status_r1 as i32 as Real),
             }
         }
         Field::Energy(i) => {
             let e = &o.energy;
             [e.stored, e.damping, e.friction, e.stops][i as usize]
         }
-        Field::Event(0) => o.event_time,
-        Field::Event(_) => o.event_count as Real,
-        _ => 0.0,
+        Field::Event(0) => T::cst(o.event_time),
+        Field::Event(_) => T::cst(o.event_count as Real),
+        _ => T::zero(),
     }
 }
 

@@ -372,11 +372,21 @@ pub fn update<T: Scalar>(
             excess[2] / k_ret[1],
         )
     };
+    // Where a step ended, a read's plastic increment is zero up to round-off (the trial is back
+    // on the limit): there the accumulated slip |Δs| and the plastic work max(0, ·) have their
+    // kinks, and their derivative is taken as the central difference's there (`Real`: no change)
+    let kink = |x: T, f: T| !stepping && x.re().abs() <= ON_LIMIT * f.re().abs();
+    let at_kink = [
+        kink(norm2(excess[0], excess[1]), norm2(f[0], f[1])),
+        kink(excess[2], m),
+    ];
+    // |Δs| at Δs = 0: the central difference's derivative is 0
+    let flat = |x: T, k: bool| if k { x.with_eps(0.0) } else { x };
     next.slip_plastic[0] += ds[0];
     next.slip_plastic[1] += ds[1];
     next.slip_plastic_r1 += ds_r;
-    next.slip_acc += norm2(ds[0], ds[1]);
-    next.slip_acc_r1 += ds_r.abs();
+    next.slip_acc += flat(norm2(ds[0], ds[1]), at_kink[0]);
+    next.slip_acc_r1 += flat(ds_r.abs(), at_kink[1]);
     if stepping {
         next.slip_rate = [ds[0] / h, ds[1] / h, ds_r / h];
     }
@@ -385,7 +395,7 @@ pub fn update<T: Scalar>(
     let (e1, d1) = (elastic(&next), damper(next.slip_rate));
     let spring = [e1[0] * p.k_stick, e1[1] * p.k_stick, e1[2] * p.k_stick_r1];
     let force = [spring[0] + d1[0], spring[1] + d1[1], spring[2] + d1[2]];
-    next.dissipated += dissipation(p, st, &force, [ds[0], ds[1], ds_r], e1);
+    next.dissipated += dissipation(p, st, &force, ([ds[0], ds[1], ds_r], at_kink), e1);
     next.force = force;
     next.elastic = e1;
     let csfc = norm2(force[0], force[1]);
@@ -465,17 +475,24 @@ pub fn stick_slip_function(
 /// elastic slip, ½(d0 + d1)·Δe with d = f − k e. With the stick springs' energy ½k e² this
 /// closes work = Δstored + dissipated exactly for the trapezoidal work ½(f0 + f1)·Δposition,
 /// also where μ changes from step to step (static → kinetic).
+///
+/// `at_kink`: per effect (sliding, spin), whether its plastic increment is the round-off of a
+/// read where a step ended. When both are, the plastic work is at the kink of max(0, ·), whose
+/// derivative is taken as the central difference's there: half the work's.
 fn dissipation<T: Scalar>(
     p: &FrictionParams,
     st: &FrictionState<T>,
     f1: &[T; 3],
-    ds: [T; 3],
+    (ds, at_kink): ([T; 3], [bool; 2]),
     e1: [T; 3],
 ) -> T {
     let f0 = &st.force;
     let plastic =
         ((f0[0] + f1[0]) * ds[0] + (f0[1] + f1[1]) * ds[1] + (f0[2] + f1[2]) * ds[2]) * 0.5;
     let mut w = plastic.max(T::zero());
+    if at_kink[0] && at_kink[1] {
+        w = w.with_eps(0.5 * plastic.eps());
+    }
     let k = [p.k_stick, p.k_stick, p.k_stick_r1];
     let c = [p.c_stick, p.c_stick, p.c_stick_r1];
     for i in 0..3 {
