@@ -6,10 +6,12 @@
 //! and initialization mode (the initial positions move with the inputs).
 //!
 //! The reference evaluates the kernel in `Real` at u ± jε, j = 1..4, on the same friction branch
-//! (`Eval::Tangent` with the status at u), with ε = 1e-4·max(1, |u_i|) per input: its truncation
-//! is O((ε/ℓ)⁸) for the smallest length ℓ over which an output bends (ℓ ≥ 1e-2 m or rad in these
-//! scenes: ≤ 1e-16), its round-off ≈ 1e-16·|y|/ε ≈ 1e-12 of an output's size. Each entry must
-//! agree to 1e-10 of the largest entry of its output's row (the row's scale in the output's
+//! (`Eval::Tangent` with the status at u), with ε = 2e-5·max(1, |u_i|) per input (4e-6 for the
+//! coupled disc flow, whose slip angle bends over shorter distances): its truncation is
+//! O((ε/ℓ)⁸) for the smallest length ℓ over which an output bends (the scenes keep elastic slips,
+//! stop penetrations, constraint gaps and tilts at mm and 10 mrad, so that ℓ ≫ 4ε), its round-off
+//! ≈ 1e-15·|y|/ε, which is allowed on top. Each entry must agree to 1e-10 of the largest entry
+//! of its output's row (the row's scale in the output's
 //! unit: a position's derivative is not measured against a force's).
 
 use super::{LogSink, ModelInstance};
@@ -138,7 +140,7 @@ fn deviation(c: &Case) -> Real {
     // max(0, ·) (`friction::update`); their difference carries an artefact of the kink,
     // a series in ε from its O(ε) term on, removed by Richardson extrapolation of the differences
     // at ε, ε/2, ε/4 (the O(ε) and O(ε²) terms). A kink has no derivative: the tangent takes
-    // the central value 0 there, and what is checked is that the extrapolated difference is
+    // the central difference's value there, and what is checked is that the extrapolated one is
     // within 1e-4 of the row's scale (measured: 6e-4 → 1e-8 → 2e-9 of 0.01 per level on the
     // sliding slip; 4e-7 of 0.01 left on the coupled spin, whose Δs at the point is the disc
     // return's round-off)
