@@ -1122,13 +1122,7 @@ fn dump_bits(path: &str) {
             .filter(|x| !matches!(x.start, connector_fmu::variables::Start::Integer(_)))
             .map(|x| x.vr)
             .collect();
-        let cont_out: Vec<u32> = t
-            .vars
-            .iter()
-            .filter(|x| x.causality == Causality::Output)
-            .filter(|x| x.variability == connector_fmu::variables::Variability::Continuous)
-            .map(|x| x.vr)
-            .collect();
+        let cont_out = continuous_outputs(v);
         let int_out: Vec<u32> = t
             .vars
             .iter()
@@ -1201,6 +1195,17 @@ fn dump_bits(path: &str) {
     println!("wrote {path}");
 }
 
+/// The VRs of a variant's continuous Real outputs (the unknowns of a directional derivative).
+fn continuous_outputs(v: Variant) -> Vec<u32> {
+    table(v)
+        .vars
+        .iter()
+        .filter(|x| x.causality == Causality::Output)
+        .filter(|x| x.variability == connector_fmu::variables::Variability::Continuous)
+        .map(|x| x.vr)
+        .collect()
+}
+
 /// BENCH_TANGENT=1: what one directional derivative costs against one kernel evaluation, on
 /// every variant with its behaviours on, a quarter period into its path: interleaved batches of
 /// (a) fmi2GetDirectionalDerivative of every continuous output along one node input (b.r[2],
@@ -1219,13 +1224,7 @@ fn tangent_cost() {
         let mut f = real_instance(v, &params_on(v));
         rounds(&REAL, &mut f, PERIOD / 4);
         let t = table(v);
-        let cont: Vec<u32> = t
-            .vars
-            .iter()
-            .filter(|x| x.causality == Causality::Output)
-            .filter(|x| x.variability == connector_fmu::variables::Variability::Continuous)
-            .map(|x| x.vr)
-            .collect();
+        let cont = continuous_outputs(v);
         let seed = ["b.r[2]", "b.r[1]", "b.q.x"]
             .iter()
             .find_map(|n| t.vars.iter().find(|x| x.name == *n))
