@@ -48,8 +48,9 @@ impl ModelInstance {
     /// second derivatives (the gradients' own derivatives enter the rates and node loads),
     /// the quaternions' normalisation, and the constitutive tangents (springs, dampers, stops,
     /// penalties, stick springs, the return map, the coupled mode's disc flow by the implicit
-    /// function). At a kink (a stop's contact, |·| at 0) it is the central difference's value
-    /// there. The committed state is not touched.
+    /// function). Where a step ended, the accumulated slips |Δs| and the plastic work sit on
+    /// their kinks and take the central difference's value there; a stop exactly at contact is
+    /// differentiated on its free side. The committed state is not touched.
     pub fn directional_derivative(
         &mut self,
         unknowns: &[u32],
