@@ -1107,13 +1107,7 @@ fn scene_json(v: Variant, params: &[(String, f64)]) -> String {
 /// for bit on these paths (docs/benchmarks.md: how the per-step restructuring was checked).
 fn dump_bits(path: &str) {
     let mut text = String::new();
-    for v in [
-        Variant::Planar,
-        Variant::ProjectionCartesian,
-        Variant::ProjectionFlexionTorsion,
-        Variant::Bushing,
-        Variant::RadialThrust,
-    ] {
+    for v in VARIANTS {
         let t = table(v);
         let real_out: Vec<u32> = t
             .vars
@@ -1214,13 +1208,7 @@ fn continuous_outputs(v: Variant) -> Vec<u32> {
 /// medians of 15 batches of 2000 calls; printed as ns per call and the ratio (a)/(b).
 fn tangent_cost() {
     println!("variant, ns per directional derivative, ns per set+get (one evaluation), ratio");
-    for v in [
-        Variant::Planar,
-        Variant::ProjectionCartesian,
-        Variant::ProjectionFlexionTorsion,
-        Variant::Bushing,
-        Variant::RadialThrust,
-    ] {
+    for v in VARIANTS {
         let mut f = real_instance(v, &params_on(v));
         rounds(&REAL, &mut f, PERIOD / 4);
         let t = table(v);
@@ -1266,6 +1254,15 @@ fn tangent_cost() {
     }
 }
 
+/// Every variant, in the order the tables and files list them.
+const VARIANTS: [Variant; 5] = [
+    Variant::Planar,
+    Variant::ProjectionCartesian,
+    Variant::ProjectionFlexionTorsion,
+    Variant::Bushing,
+    Variant::RadialThrust,
+];
+
 fn env_usize(name: &str) -> Option<usize> {
     std::env::var(name).ok().and_then(|s| s.parse().ok())
 }
@@ -1297,13 +1294,7 @@ fn main() {
         std::process::exit(2);
     }
 
-    let variants = [
-        Variant::Planar,
-        Variant::ProjectionCartesian,
-        Variant::ProjectionFlexionTorsion,
-        Variant::Bushing,
-        Variant::RadialThrust,
-    ];
+    let variants = VARIANTS;
     let mut rows = vec![];
     let mut scenes = vec![];
     let mut deviations = vec![];
