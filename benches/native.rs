@@ -1206,9 +1206,13 @@ fn continuous_outputs(v: Variant) -> Vec<u32> {
 /// b.r[1] or b.q.x where that is what there is), (b) fmi2SetReal of one input to a new value and
 /// fmi2GetReal of one output (one kernel evaluation at the new inputs, plus the two calls),
 /// medians of 15 batches of 2000 calls; printed as ns per call and the ratio (a)/(b).
-fn tangent_cost() {
+/// BENCH_ONLY=<variant> measures that variant alone.
+fn tangent_cost(only: Option<&str>) {
     println!("variant, ns per directional derivative, ns per set+get (one evaluation), ratio");
     for v in VARIANTS {
+        if only.is_some_and(|o| o != name_of(v)) {
+            continue;
+        }
         let mut f = real_instance(v, &params_on(v));
         rounds(&REAL, &mut f, PERIOD / 4);
         let t = table(v);
@@ -1281,7 +1285,7 @@ fn main() {
         return;
     }
     if std::env::var("BENCH_TANGENT").is_ok() {
-        tangent_cost();
+        tangent_cost(only.as_deref());
         return;
     }
     let write_files = full && only.is_none();

@@ -2,8 +2,9 @@
 
 use super::{Call, ModelInstance};
 use crate::error::{FmuError, FmuResult};
-use crate::model::access::{read_output, Ty};
-use crate::model::variables::{Causality, Field, Variability};
+use crate::model::access::{continuous_row, Ty};
+use crate::model::slots::NO_INDEX;
+use crate::model::variables::{Causality, Variability};
 use crate::physics::friction::Eval;
 use crate::physics::math::Real;
 
@@ -59,20 +60,22 @@ impl ModelInstance {
         out: &mut [Real],
     ) -> FmuResult<()> {
         self.allowed(Call::Get)?;
-        for &vr in unknowns {
-            let v = self.var(vr, Ty::Real)?;
-            if v.causality != Causality::Output || v.variability != Variability::Continuous {
-                return Err(FmuError::error(format!(
-                    "unknown {} is not a continuous Real output",
-                    v.name
-                )));
-            }
+        let (rows, inputs) = (&*self.real.continuous_index, &*self.real.input_index);
+        let row_of = |vr: u32| rows.get(vr as usize).copied().unwrap_or(NO_INDEX);
+        let input_of = |vr: u32| inputs.get(vr as usize).copied().unwrap_or(NO_INDEX);
+        // every unknown and seed is checked before anything is computed, through the compact
+        // tables; the variable table only names the first one refused
+        if unknowns.iter().any(|&vr| row_of(vr) == NO_INDEX) {
+            return Err(self.unknown_error(unknowns));
         }
-        let mut dmax: Real = 0.0;
-        for (&vr, &d) in knowns.iter().zip(dknown) {
-            self.finite_input(vr, d, "seed")?;
-            dmax = dmax.max(d.abs());
+        let seeds = knowns.iter().zip(dknown);
+        if seeds
+            .clone()
+            .any(|(&vr, &d)| input_of(vr) == NO_INDEX || !d.is_finite())
+        {
+            return Err(self.seed_error(knowns, dknown));
         }
+        let dmax = seeds.clone().fold(0.0, |m: Real, (_, d)| m.max(d.abs()));
         if dmax == 0.0 {
             out.iter_mut().for_each(|x| *x = 0.0);
             return Ok(());
@@ -80,22 +83,20 @@ impl ModelInstance {
         // J·δ is linear in δ: seeded with δ/max|δ| and scaled back by max|δ|, so that neither
         // huge nor denormal seeds overflow or underflow inside the kernel (regression 003)
         let mut seed = [[0.0; 13]; 2];
-        for (&vr, &d) in knowns.iter().zip(dknown) {
-            if let Some(Field::Input { node, idx }) = self.table.get(vr).map(|v| v.field) {
-                seed[node as usize][idx as usize] += d / dmax;
-            }
+        for (&vr, &d) in seeds {
+            let j = input_of(vr) as usize;
+            seed[j / 13][j % 13] += d / dmax;
         }
         // effects slipping at the current inputs are differentiated on their slip branch
         let here = self.outputs()?.friction;
         let mode = Eval::Tangent([here.status, here.status_r1]);
-        let o = self.tangent_at(&seed, mode)?;
+        let row = continuous_row(&self.tangent_at(&seed, mode)?);
         for (&vr, slot) in unknowns.iter().zip(out.iter_mut()) {
-            let v = self.var(vr, Ty::Real)?;
-            let d = dmax * read_output(&o, v.field).eps;
+            let d = dmax * row[row_of(vr) as usize].eps;
             if !d.is_finite() {
+                let name = self.table.get(vr).map_or("?", |v| v.name.as_str());
                 return Err(FmuError::error(format!(
-                    "the derivative of {} along dvKnown is not finite (the seed's size {dmax:e} takes it beyond the range of a double)",
-                    v.name
+                    "the derivative of {name} along dvKnown is not finite (the seed's size {dmax:e} takes it beyond the range of a double)"
                 )));
             }
             *slot = d;
@@ -105,6 +106,37 @@ impl ModelInstance {
 }
 
 impl ModelInstance {
+    /// The error for the first unknown that is not a continuous Real output.
+    #[cold]
+    #[inline(never)]
+    fn unknown_error(&self, unknowns: &[u32]) -> FmuError {
+        for &vr in unknowns {
+            let v = match self.var(vr, Ty::Real) {
+                Ok(v) => v,
+                Err(e) => return e,
+            };
+            if v.causality != Causality::Output || v.variability != Variability::Continuous {
+                return FmuError::error(format!(
+                    "unknown {} is not a continuous Real output",
+                    v.name
+                ));
+            }
+        }
+        FmuError::error("an unknown is not a continuous Real output")
+    }
+
+    /// The error for the first seed that is not a finite value of a node input.
+    #[cold]
+    #[inline(never)]
+    fn seed_error(&self, knowns: &[u32], dknown: &[Real]) -> FmuError {
+        for (&vr, &d) in knowns.iter().zip(dknown) {
+            if let Err(e) = self.finite_input(vr, d, "seed") {
+                return e;
+            }
+        }
+        FmuError::error("a seed is not a finite value of a node input")
+    }
+
     /// fmi3GetAdjointDerivative: Jᵀ·v for the same J as `directional_derivative`, built from
     /// its columns: entry j is Σᵢ vᵢ·(J·eⱼ)ᵢ with J·eⱼ the directional derivative along the unit
     /// seed of known j. So the adjoint is the exact transpose of the Jacobian the directional

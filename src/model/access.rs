@@ -274,6 +274,59 @@ pub fn read_output<T: Scalar>(o: &Outputs<T>, f: Field) -> T {
     }
 }
 
+/// How many continuous Real outputs there can be: the node loads, the eight per-component
+/// outputs, the PLANAR friction outputs, the energies (`continuous_row`).
+pub const CONTINUOUS_LEN: usize = 12 + 8 * 6 + 6 + 4;
+
+/// Where a continuous Real output stands in `continuous_row`; None for any other field.
+pub fn continuous_index(f: Field) -> Option<u8> {
+    let comp = |out: CompOut| match out {
+        CompOut::Position => 0,
+        CompOut::Motion => 1,
+        CompOut::Velocity => 2,
+        CompOut::Total => 3,
+        CompOut::Elastic => 4,
+        CompOut::Viscous => 5,
+        CompOut::Friction => 6,
+        CompOut::Reaction => 7,
+    };
+    match f {
+        Field::Load { which, i } => Some(3 * which + i),
+        Field::Comp { out, k } => Some(12 + 6 * comp(out) + k),
+        Field::Friction(ff) => match ff {
+            FrictionField::Cnf => Some(60),
+            FrictionField::Cnm1 => Some(61),
+            FrictionField::Csfc => Some(62),
+            FrictionField::Csmc1 => Some(63),
+            FrictionField::Slip => Some(64),
+            FrictionField::SlipR1 => Some(65),
+            FrictionField::Status | FrictionField::StatusR1 => None,
+        },
+        Field::Energy(i) => Some(66 + i),
+        _ => None,
+    }
+}
+
+/// Every continuous Real output in one row, at `continuous_index` (the directional
+/// derivatives read the unknowns from it: one copy instead of a match per unknown).
+pub fn continuous_row<T: Scalar>(o: &Outputs<T>) -> [T; CONTINUOUS_LEN] {
+    let mut row = [T::zero(); CONTINUOUS_LEN];
+    let loads = [o.fa, o.ma, o.fb, o.mb];
+    for (j, v) in loads.iter().enumerate() {
+        row[3 * j..3 * j + 3].copy_from_slice(v.as_slice());
+    }
+    let comps = [o.cp, o.cu, o.cv, o.ctf, o.cef, o.cvf, o.csf, o.crf];
+    for (j, c) in comps.iter().enumerate() {
+        row[12 + 6 * j..18 + 6 * j].copy_from_slice(c);
+    }
+    let (fr, e) = (&o.friction, &o.energy);
+    row[60..].copy_from_slice(&[
+        fr.cnf, fr.cnm1, fr.csfc, fr.csmc1, fr.slip, fr.slip_r1, e.stored, e.damping, e.friction,
+        e.stops,
+    ]);
+    row
+}
+
 /// What made outputs non-finite, in words: the first Real output of the table that is not
 /// finite, and the node input of largest magnitude (the usual cause: a position or velocity so
 /// large that a force, an energy or a dissipation power overflows). Off the per-step path.
