@@ -30,7 +30,9 @@
 //! BENCH_ONLY=<Variant>[:on|:off] (then nothing is written either), BENCH_PROFILE=<n> (n more
 //! rounds in `profiled` and `profiled_empty`, for
 //! `valgrind --tool=callgrind --toggle-collect='native::profiled'`), BENCH_DUMP=<file> (no
-//! timing: the bits of every output along every case's path, `dump_bits`).
+//! timing: the bits of every output along every case's path, `dump_bits`), BENCH_TANGENT=1
+//! (instead of the rounds: one directional derivative against one set + get per variant,
+//! `tangent_cost`; BENCH_ONLY=<Variant> for one).
 #![allow(clippy::not_unsafe_ptr_arg_deref)]
 
 use connector_fmu::fmi2::exports as fmi;
