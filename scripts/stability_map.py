@@ -36,7 +36,7 @@ from cosim.master import LABELS, METHODS  # noqa: E402
 
 # the event-located methods whose one-step map does not depend on the FMU's extrapolation history
 # (they integrate the body from trial evaluations and directional derivatives only)
-MAP_METHODS = list(METHODS) + ["linear_implicit_ev", "linear_exact_ev"]
+MAP_METHODS = list(METHODS) + ["linear_implicit_ev", "linear_exact_ev", "linear_path_ev"]
 from cosim.scenes import Oscillator, amplification, bound_closed_form, spectral_radius  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
@@ -45,7 +45,8 @@ H_LO, H_HI = 1e-3, 1e3
 TOL = 1e-9
 RHO_H = np.geomspace(1e-2, 1e2, 25)
 STYLE = {"zoh": ("C3", "o"), "extrapolation": ("C1", "s"), "linear_implicit": ("C0", "D"),
-         "rollback": ("C2", "^"), "linear_implicit_ev": ("C4", "P"), "linear_exact_ev": ("C6", "*")}
+         "rollback": ("C2", "^"), "linear_implicit_ev": ("C4", "P"), "linear_exact_ev": ("C6", "*"),
+         "linear_path_ev": ("C9", "X")}
 
 
 def tasks():

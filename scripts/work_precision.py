@@ -30,14 +30,14 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from cosim import sweep as engine  # noqa: E402
-from cosim.master import EV_METHODS, FMI3_SUFFIX, METHODS, split_method  # noqa: E402
+from cosim.master import EV_METHODS, FMI2_ONLY, FMI3_SUFFIX, METHODS, split_method  # noqa: E402
 from cosim.master import label as method_label  # noqa: E402
 from cosim.scenes import SCENES  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
 STYLE = {"zoh": ("C3", "o"), "extrapolation": ("C1", "s"), "linear_implicit": ("C0", "D"),
          "rollback": ("C2", "^"), "extrapolation_ev": ("C5", "v"), "linear_implicit_ev": ("C4", "P"),
-         "linear_exact_ev": ("C6", "*")}
+         "linear_exact_ev": ("C6", "*"), "linear_path_ev": ("C9", "X")}
 # scenes with events (stops, stick/slip): the event-located methods run there, at EV_SWEEP's steps
 # (the scene's sweep from 10 ms to 0.1 ms), and through FMI 3.0 (early return) at FMI3_SWEEP
 EVENT_SCENES = ("belt", "puck0", "bounce")
@@ -54,7 +54,8 @@ def methods_of(scene, quick=False):
     if scene.name in EVENT_SCENES:
         ev = EV_SWEEP[scene.name][:-2] if quick else EV_SWEEP[scene.name]
         out += [(m, ev) for m in EV_METHODS]
-        out += [(m + FMI3_SUFFIX, [H for H in FMI3_SWEEP if H in ev]) for m in EV_METHODS]
+        out += [(m + FMI3_SUFFIX, [H for H in FMI3_SWEEP if H in ev]) for m in EV_METHODS
+                if m not in FMI2_ONLY]
     return out
 FIXED = ["scene", "method", "H", "steps", "cpu_s", "us_per_step", "fmi_calls", "calls_per_step",
          "rollback_passes", "events", "failed", "error", "error2"]

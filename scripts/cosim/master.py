@@ -515,6 +515,7 @@ class Coupled:
         self.theta, self.tol, self.max_iter = theta, tol, max_iter
         self.iterations = 0          # rollback iterations in total
         self.events = 0              # steps cut at an event (event-located methods)
+        self.fresh = True            # the step starts at t = 0 or at an event
 
     def put_state(self, t, p, u):
         """Inputs = node a at t, node b = the body at (p, u)."""
@@ -763,17 +764,50 @@ def linear_exact_ev(c, t, H):
     return t1
 
 
+RESTART = 0.01           # linear_path_ev: the first step after an event is RESTART·H
+
+
+def linear_path_ev(c, t, H):
+    """Linear-implicit on the master's own path, event-located (FMI 2.0: input derivatives).
+    The θ-step over the whole H comes first, from the same linearisation as
+    `linear_implicit_ev`: (M − θHD − ½θH²K) Δv = H((1 − θ)Q0 + θF_pred), a = Δv/H. The FMU is
+    driven along that path (velocity input derivatives a: its second-order extrapolation
+    r + vτ + ½aτ² is then the body's path), to t + H or the first event t1; the body moves along
+    the same path to t1: x += h(v + ½ah), v += ah, h = t1 − t. So the FMU commits its friction
+    and stops along exactly the path the body takes, and the next step's read at the body sees
+    no offset from it (a stick spring of 1e6 N/m turns a µm offset into newtons).
+    θ = 1 on a step that starts at t = 0 or at an event (it damps what the event leaves behind
+    in a stiff stick spring), θ = ½ between events (second order); after an event the first
+    step is RESTART·H long, so that the load jump at the event (μ_s → μ_k at a breakaway) does
+    not ride on a whole step's linearisation. FMI 2.0 only: FMI 3.0 has no input derivatives."""
+    b, p, u = c.body, c.p, c.u
+    th = 1.0 if c.fresh else 0.5
+    Q0, Qp, K, D = _linearise(c, t, H)
+    A = b.mass(p) - th * H * D - 0.5 * th * H * H * K
+    du = np.linalg.solve(A, H * ((1.0 - th) * Q0 + th * Qp))
+    a = du / H
+    # inputs at (t, p, u) are set (_linearise); derivatives: ṙ = v (the velocity input), v̇ = a
+    b.rates(t, H, p, u, b.retract(p, H * u), u + du, c.fmu.d)
+    c.fmu.set_rates()
+    t1 = step_fmu(c, t, H)
+    h = t1 - t
+    c.p, c.u = b.retract(p, h * (u + 0.5 * h * a)), u + h * a
+    return t1
+
+
 METHODS = {"zoh": zoh, "extrapolation": extrapolation, "linear_implicit": linear_implicit,
            "rollback": rollback}
 EV_METHODS = {"extrapolation_ev": extrapolation_ev, "linear_implicit_ev": linear_implicit_ev,
-              "linear_exact_ev": linear_exact_ev}
+              "linear_exact_ev": linear_exact_ev, "linear_path_ev": linear_path_ev}
+FMI2_ONLY = ("linear_path_ev",)     # event-located methods that need fmi2SetRealInputDerivatives
 ALL_METHODS = {**METHODS, **EV_METHODS}
 LABELS = {"zoh": "explicit, zero-order hold", "extrapolation": "explicit, input extrapolation",
           "linear_implicit": "linear-implicit (directional derivatives)",
           "rollback": "iterative with rollback",
           "extrapolation_ev": "input extrapolation, event-located",
           "linear_implicit_ev": "linear-implicit, event-located",
-          "linear_exact_ev": "linear-exact (exponential), event-located"}
+          "linear_exact_ev": "linear-exact (exponential), event-located",
+          "linear_path_ev": "linear-implicit on the master's path (θ = ½), event-located"}
 FMI3_SUFFIX = "@fmi3"       # method@fmi3: the same method through the FMI 3.0 FMU (early return)
 
 
@@ -803,10 +837,13 @@ def simulate(scene, method, H, t_end=None, unzipdir=None, record=None, fail_ok=T
     names of extra Real outputs to sample at every communication point (slow path).
     `method` may end in "@fmi3": the FMI 3.0 FMU (dist/fmi3/) instead of the FMI 2.0 one.
     Event-located methods cut a step at the first event: the samples are then at the
-    communication points actually reached (the next step starts at the event, with H again;
-    the last step ends at t_end)."""
+    communication points actually reached (the next step starts at the event, with H again,
+    or with RESTART·H for linear_path_ev; the last step ends at t_end)."""
     t_end = scene.t_end if t_end is None else t_end
     base, version = split_method(method)
+    if version == 3 and base in FMI2_ONLY:
+        raise ValueError(f"{base} drives the FMU with input derivatives, which FMI 3.0 does not "
+                         "have: FMI 2.0 only")
     N = int(round(t_end / H))
     body = scene.body()
     params = dict(scene.params)
@@ -835,15 +872,17 @@ def simulate(scene, method, H, t_end=None, unzipdir=None, record=None, fail_ok=T
             else:
                 if t >= t_end * (1 - 1e-12):
                     break
-                h = min(H, t_end - t)
+                h = min(H * (RESTART if c.fresh and base == "linear_path_ev" else 1.0), t_end - t)
                 t_next = t + h
             c0 = clock()
+            ev0 = c.events
             try:
                 r = step(c, t, h)
             except (FMICallException, CosimFailure, np.linalg.LinAlgError) as e:
                 failed, r = f"t = {t:.6g}: {e}", None
             cpu += clock() - c0
             t = t_next if r is None else r
+            c.fresh = c.events > ev0          # the next step starts at an event
             i += 1
             if failed is None and not (np.all(np.isfinite(c.p)) and np.all(np.isfinite(c.u))
                                        and np.max(np.abs(c.u)) < scene.blowup):

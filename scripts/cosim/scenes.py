@@ -558,6 +558,7 @@ class OneStepMap:
         self.fmu = Connector(self.osc.variant, params, self.osc.init_inputs(), body.in_names,
                              body.load_names, unzipdir=unzipdir)
         self.c = Coupled(body, self.fmu, *self.osc.initial_state(), **self.osc.method_options(method))
+        self.c.fresh = False          # a step between events: the map the methods iterate
         self.s0 = self.fmu.s.getFMUstate()
         self.step = ALL_METHODS[method]
         self.evaluations = 0
@@ -598,7 +599,9 @@ def amplification(method, h, zeta, theta=1.0):
         elif method == "linear_exact_ev":      # exact for the linear connector
             cols.append(tuple(expm(np.array([[0.0, h], [-h, -2 * zeta * h]])) @ [x, v]))
             continue
-        elif method == "linear_implicit_ev":     # velocity θ-step, position trapezoidal (g = 0)
+        elif method in ("linear_implicit_ev", "linear_path_ev"):
+            # velocity θ-step, position trapezoidal (g = 0); linear_path_ev: θ = ½ between events
+            theta = 0.5 if method == "linear_path_ev" else theta
             du = h * ((1 - theta) * Q0 + theta * F(x + h * v, v)) / (1 + theta * h * 2 * zeta + theta * h * h / 2)
             cols.append((x + h * (v + du / 2), v + du))
             continue

@@ -605,7 +605,8 @@ def _execute_dask(todo, scheduler, refs, done, finished, workers):
 # the command: ./scripts/sweep SCENE NAME=VALUES ... [--scheduler ...] [--out FILE.csv]
 # =================================================================================================
 METHOD_COST = {"zoh": 1.0, "extrapolation": 1.5, "linear_implicit": 3.0, "rollback": 4.0,
-               "extrapolation_ev": 1.5, "linear_implicit_ev": 3.5, "linear_exact_ev": 6.0}
+               "extrapolation_ev": 1.5, "linear_implicit_ev": 3.5, "linear_exact_ev": 6.0,
+               "linear_path_ev": 4.0}
 
 
 def run_cost(scene, method, H):

@@ -16,7 +16,12 @@ Checked against answers the project did not invent:
   saving);
 - §7 oscillator: linear_exact_ev's one-step map measured through the FMU has the spectral
   radius exp(−ζωH) of the exact solution (to 1e-6 relative or absolute: the FMU's directional
-  derivatives are exact to about that).
+  derivatives are exact to about that); linear_path_ev's has the trapezoidal rule's (θ = ½).
+- linear_path_ev (the FMU driven along the master's own path, FMI 2.0 input derivatives):
+  puck stop times equal the rigid closed forms to 1e-9 at H = 10, 2 and 1 ms (the first step,
+  θ = 1 linearised at the slipping predictor, decelerates the body at exactly μg from t = 0, and
+  the path is exact for a constant deceleration); the belt's cycle (SCENES §1) within the
+  issue's 2.7e-4 of the Karnopp closed form at H = 1 ms, and a cycle at 5 and 10 ms.
 """
 from __future__ import annotations
 
@@ -29,7 +34,7 @@ from conftest import REPO
 
 sys.path.insert(0, str(REPO / "scripts"))
 from cosim.master import simulate  # noqa: E402
-from cosim.scenes import Bounce, OneStepMap, Puck  # noqa: E402
+from cosim.scenes import Belt, Bounce, OneStepMap, Puck, amplification, spectral_radius  # noqa: E402
 
 
 @pytest.mark.parametrize("H", [1e-2, 1e-3])
@@ -91,5 +96,44 @@ def test_exact_one_step_map(zeta):
     try:
         for h in (0.1, 2.0, 20.0):
             assert probe.rho(h) == pytest.approx(math.exp(-zeta * h), rel=1e-6, abs=1e-6)
+    finally:
+        probe.close()
+
+
+@pytest.mark.parametrize("H", [1e-2, 2e-3, 1e-3])
+def test_path_ev_puck_stop_times_exact(H):
+    scene = Puck(coupling=0)
+    res = simulate(scene, "linear_path_ev", H, fail_ok=False)
+    fig, ref = scene.measure(res), scene.reference()
+    assert res.events >= 2, "both stops were located inside a step"
+    assert fig["err_t_v"] < 1e-9 and fig["err_t_w"] < 1e-9, fig
+    for t in (ref["t_v"], ref["t_w"]):
+        assert 1e-3 < (t / H) % 1.0 < 1 - 1e-3
+
+
+def test_path_ev_belt_at_large_steps():
+    scene = Belt()
+    errs = {}
+    for H in (1e-2, 5e-3, 1e-3):
+        fig = scene.measure(simulate(scene, "linear_path_ev", H, fail_ok=False))
+        assert fig["cycles"] >= 2, (H, fig)
+        errs[H] = fig["error"]
+    assert errs[1e-3] <= 2.7e-4, errs      # measured 5.6e-5
+    assert errs[5e-3] <= 1e-3, errs        # measured 3.0e-4
+    assert errs[1e-2] < 0.2, errs          # measured 0.12: a cycle, not an accurate one
+
+
+def test_path_ev_is_fmi2_only():
+    with pytest.raises(ValueError, match="FMI 2.0 only"):
+        simulate(Puck(coupling=0), "linear_path_ev@fmi3", 1e-3)
+
+
+@pytest.mark.parametrize("zeta", [0.0, 0.5])
+def test_path_ev_one_step_map_is_trapezoidal(zeta):
+    probe = OneStepMap("linear_path_ev", zeta)
+    try:
+        for h in (0.1, 2.0, 20.0):
+            closed = spectral_radius(amplification("linear_path_ev", h, zeta))
+            assert probe.rho(h) == pytest.approx(closed, rel=1e-6, abs=1e-6)
     finally:
         probe.close()
