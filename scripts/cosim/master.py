@@ -764,7 +764,8 @@ def linear_exact_ev(c, t, H):
     return t1
 
 
-RESTART = 0.01           # linear_path_ev: the first step after an event is RESTART·H
+# the first step after an event, as a fraction of H, for the methods that take a short one
+RESTART = {"linear_path_ev": 0.01}
 
 
 def linear_path_ev(c, t, H):
@@ -778,7 +779,7 @@ def linear_path_ev(c, t, H):
     no offset from it (a stick spring of 1e6 N/m turns a µm offset into newtons).
     θ = 1 on a step that starts at t = 0 or at an event (it damps what the event leaves behind
     in a stiff stick spring), θ = ½ between events (second order); after an event the first
-    step is RESTART·H long, so that the load jump at the event (μ_s → μ_k at a breakaway) does
+    step is H/100 long (RESTART), so that the load jump at the event (μ_s → μ_k at a breakaway) does
     not ride on a whole step's linearisation. FMI 2.0 only: FMI 3.0 has no input derivatives."""
     b, p, u = c.body, c.p, c.u
     th = 1.0 if c.fresh else 0.5
@@ -838,7 +839,7 @@ def simulate(scene, method, H, t_end=None, unzipdir=None, record=None, fail_ok=T
     `method` may end in "@fmi3": the FMI 3.0 FMU (dist/fmi3/) instead of the FMI 2.0 one.
     Event-located methods cut a step at the first event: the samples are then at the
     communication points actually reached (the next step starts at the event, with H again,
-    or with RESTART·H for linear_path_ev; the last step ends at t_end)."""
+    or shorter for a method in RESTART; the last step ends at t_end)."""
     t_end = scene.t_end if t_end is None else t_end
     base, version = split_method(method)
     if version == 3 and base in FMI2_ONLY:
@@ -872,7 +873,7 @@ def simulate(scene, method, H, t_end=None, unzipdir=None, record=None, fail_ok=T
             else:
                 if t >= t_end * (1 - 1e-12):
                     break
-                h = min(H * (RESTART if c.fresh and base == "linear_path_ev" else 1.0), t_end - t)
+                h = min(H * (RESTART.get(base, 1.0) if c.fresh else 1.0), t_end - t)
                 t_next = t + h
             c0 = clock()
             ev0 = c.events
