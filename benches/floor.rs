@@ -240,7 +240,7 @@ impl FloorParams {
     }
 }
 
-/// A node's 13 inputs: r, q (w x y z), v, ω.
+/// A node's 13 pose and twist inputs: r, q (w x y z), v, ω.
 type NodeIn = [f64; 13];
 
 /// The floor instance.

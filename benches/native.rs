@@ -215,7 +215,7 @@ const PERIOD: usize = 2000;
 /// Node inputs per node: r(3), q w x y z (4), v(3), ω(3).
 const PER_NODE: usize = 13;
 
-/// Both nodes' 26 inputs at t, node a then node b, in the order of `Field::Input { node, idx }`.
+/// Both nodes' 26 poses and twists at t, node a then node b, in the order of `Field::Input { node, idx }`.
 type Pose = [f64; 2 * PER_NODE];
 
 fn node_a_at_rest(p: &mut Pose) {
@@ -541,7 +541,8 @@ fn interface(v: Variant) -> (Vec<u32>, Vec<usize>, Vec<u32>) {
     let (mut vin, mut sel, mut vout) = (vec![], vec![], vec![]);
     for x in &table(v).vars {
         match x.field {
-            Field::Input { node, idx } if x.causality == Causality::Input => {
+            // the poses and twists (the acceleration inputs only matter with extrapolation 3)
+            Field::Input { node, idx } if (idx as usize) < PER_NODE => {
                 vin.push(x.vr);
                 sel.push(node as usize * PER_NODE + idx as usize);
             }

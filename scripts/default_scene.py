@@ -57,7 +57,9 @@ def input_table(t):
             "b.r[1]": 0.01 * np.sin(2 * np.pi * t), "b.r[2]": zero, "b.r[3]": 0.1 * one,
             "b.q.w": q[:, 0], "b.q.x": q[:, 1], "b.q.y": q[:, 2], "b.q.z": q[:, 3],
             "b.v[1]": 0.02 * np.pi * np.cos(2 * np.pi * t), "b.v[2]": zero, "b.v[3]": zero,
-            "b.w[1]": dtheta * np.cos(t), "b.w[2]": dtheta * np.sin(t), "b.w[3]": one}
+            "b.w[1]": dtheta * np.cos(t), "b.w[2]": dtheta * np.sin(t), "b.w[3]": one,
+            # the acceleration inputs move the nodes only with cosim.extrapolation = 3
+            **{f"{n}.d{k}[{i}]": zero for n in "ab" for k in "vw" for i in TRIPLE}}
     table = np.zeros(len(t), dtype=[("time", float)] + [(n, float) for n in cols])
     table["time"] = t
     for name, values in cols.items():

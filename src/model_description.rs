@@ -255,11 +255,13 @@ struct Unknown {
 
 /// Units used by the tables, with their SI base-unit exponents (kg, m, s, rad); the FMI 3.0
 /// description declares the same.
-pub const UNITS: [(&str, [i32; 4]); 13] = [
+pub const UNITS: [(&str, [i32; 4]); 15] = [
     ("m", [0, 1, 0, 0]),
     ("rad", [0, 0, 0, 1]),
     ("m/s", [0, 1, -1, 0]),
     ("rad/s", [0, 0, -1, 1]),
+    ("m/s2", [0, 1, -2, 0]),
+    ("rad/s2", [0, 0, -2, 1]),
     ("N", [1, 1, -2, 0]),
     ("N.m", [1, 2, -2, 0]),
     ("J", [1, 2, -2, 0]),

@@ -4,6 +4,7 @@ use super::{Call, ModelInstance};
 use crate::error::{FmuError, FmuResult};
 use crate::model::access::{continuous_row, Ty};
 use crate::model::slots::NO_INDEX;
+use crate::model::snapshot::{NODE_INPUTS, POSE_TWIST};
 use crate::model::variables::{Causality, Variability};
 use crate::physics::friction::Eval;
 use crate::physics::math::Real;
@@ -21,6 +22,12 @@ impl ModelInstance {
         let mut set = self.s.input_der_set;
         for ((&vr, &order), &x) in vrs.iter().zip(orders).zip(values) {
             let (node, idx) = self.finite_input(vr, x, "derivative")?;
+            if idx >= POSE_TWIST {
+                return Err(FmuError::error(format!(
+                    "{} takes no input derivative (only positions, orientations and velocities do; the accelerations are themselves the velocities' derivatives); not set",
+                    self.table.get(vr).map_or("?", |v| v.name.as_str())
+                )));
+            }
             if order != 1 {
                 return Err(FmuError::error(format!(
                     "derivative order {order} of {} is not supported (only 1); not set",
@@ -82,10 +89,13 @@ impl ModelInstance {
         }
         // J·δ is linear in δ: seeded with δ/max|δ| and scaled back by max|δ|, so that neither
         // huge nor denormal seeds overflow or underflow inside the kernel (regression 003)
-        let mut seed = [[0.0; 13]; 2];
+        // (the outputs do not depend on the acceleration inputs: their seeds add nothing)
+        let mut seed = [[0.0; POSE_TWIST]; 2];
         for (&vr, &d) in seeds {
             let j = input_of(vr) as usize;
-            seed[j / 13][j % 13] += d / dmax;
+            if let Some(s) = seed[j / NODE_INPUTS].get_mut(j % NODE_INPUTS) {
+                *s += d / dmax;
+            }
         }
         // effects slipping at the current inputs are differentiated on their slip branch
         let here = self.outputs()?.friction;

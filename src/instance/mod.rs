@@ -15,7 +15,7 @@ mod values;
 use crate::error::{Category, FmuError, FmuResult, Level};
 use crate::model::access::{nodes_of, non_finite_cause};
 use crate::model::slots::{real_tables, RealTables};
-use crate::model::snapshot::{NodeInputs, Snapshot};
+use crate::model::snapshot::{NodeInputs, PoseTwist, Snapshot};
 use crate::model::variables::{table, Table, Variant};
 use crate::physics::connector::{evaluate_into, evaluate_pose, Outputs, State};
 use crate::physics::friction::Eval;
@@ -315,7 +315,7 @@ impl ModelInstance {
     /// (forward-mode, `math::Dual`), at the current inputs and committed state (in
     /// initialization: with the state the instance would start from, which moves with the
     /// inputs). `mode` is `Eval::Tangent`: friction on the branch of its status here.
-    fn tangent_at(&self, seed: &[NodeInputs; 2], mode: Eval) -> FmuResult<Outputs<Dual>> {
+    fn tangent_at(&self, seed: &[PoseTwist; 2], mode: Eval) -> FmuResult<Outputs<Dual>> {
         let u = &self.s.inputs;
         let dual: [NodeDual; 2] =
             std::array::from_fn(|n| std::array::from_fn(|i| Dual::new(u[n][i], seed[n][i])));

@@ -4,7 +4,7 @@ use super::ModelInstance;
 use super::{singular_text, Call, FmiVersion};
 use crate::error::{Category, FmuError, FmuResult, Level};
 use crate::model::access::{non_finite_cause, write_node};
-use crate::model::snapshot::{EventRecord, LastEvent, Mode};
+use crate::model::snapshot::{EventRecord, LastEvent, Mode, POSE_TWIST};
 use crate::physics::connector::{Extrapolation, State};
 use crate::physics::events::{self, Values, EVENT_TOL};
 use crate::physics::kinematics::Node;
@@ -15,7 +15,7 @@ impl ModelInstance {
     /// Extrapolation rates of node n for a step from t (hold; linear from the input
     /// derivatives where set and the node's own velocities elsewhere; second order, with the
     /// accelerations from the velocity inputs of the previous communication point where no
-    /// input derivative gives them).
+    /// input derivative gives them; or second order along the acceleration inputs).
     fn rates(&self, n: usize, node: &Node, t: Real) -> Rates {
         let (q, der, set) = (
             &self.s.inputs[n][3..7],
@@ -33,6 +33,10 @@ impl ModelInstance {
                     .filter(|(t0, _)| t > *t0)
                     .map(|(t0, vel)| (t - t0, &vel[n]));
                 Rates::quadratic(node, q, der, set, prev)
+            }
+            Extrapolation::Accelerations => {
+                let acc = std::array::from_fn(|i| self.s.inputs[n][POSE_TWIST + i]);
+                Rates::along(node, q, der, set, &acc)
             }
         }
     }
@@ -131,7 +135,7 @@ impl ModelInstance {
                 self.s.events = far.map(|far| EventRecord { end: met.end, far });
                 write_node(&mut self.s.inputs[0], &a1);
                 write_node(&mut self.s.inputs[1], &b1);
-                self.s.input_der_set = [[false; 13]; 2];
+                self.s.input_der_set = [[false; POSE_TWIST]; 2];
                 // Outputs are a function of (inputs, committed state) alone: the last substep
                 // was evaluated on the nodes exactly as they are written back, from the angle
                 // branches and friction state it commits, so its outputs are that function's

@@ -2,7 +2,7 @@
 //! parameters, the node inputs and the outputs, with the table's checks. Also the raw node
 //! inputs as physics nodes and back.
 
-use super::snapshot::NodeInputs;
+use super::snapshot::{NodeInputs, POSE_TWIST};
 use super::variables::{
     Causality, CompOut, CompPar, Field, FrictionField, ScalarPar, Start, Table, VarSpec,
 };
@@ -55,12 +55,13 @@ pub fn nodes_of(inputs: &[NodeInputs; 2]) -> FmuResult<(Node, Node)> {
     Ok((out[0], out[1]))
 }
 
-/// Writes an extrapolated node back into the inputs.
+/// Writes an extrapolated node back into the inputs (its pose and twist; the acceleration
+/// inputs keep their values).
 pub fn write_node(u: &mut NodeInputs, n: &Node) {
     let q = n.q.quaternion();
-    *u = [
+    u[..POSE_TWIST].copy_from_slice(&[
         n.r.x, n.r.y, n.r.z, q.w, q.i, q.j, q.k, n.v.x, n.v.y, n.v.z, n.w.x, n.w.y, n.w.z,
-    ];
+    ]);
 }
 
 /// The node loads side by side, indexed by `RealSlot::Load`: fa, ma, fb, mb.
@@ -158,7 +159,8 @@ pub fn write_int(p: &mut Params, v: &VarSpec, x: i32) -> Result<(), String> {
             p.extrapolation = match x {
                 0 => Extrapolation::Hold,
                 1 => Extrapolation::Linear,
-                _ => Extrapolation::Quadratic,
+                2 => Extrapolation::Quadratic,
+                _ => Extrapolation::Accelerations,
             }
         }
         _ => return Err("is not an Integer".to_string()),
@@ -217,6 +219,7 @@ pub fn read_int_param(p: &Params, f: Field) -> i32 {
             Extrapolation::Hold => 0,
             Extrapolation::Linear => 1,
             Extrapolation::Quadratic => 2,
+            Extrapolation::Accelerations => 3,
         },
         _ => 0,
     }

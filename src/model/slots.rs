@@ -2,6 +2,7 @@
 //! for the per-step calls.
 
 use super::access::{continuous_index, Ty};
+use super::snapshot::NODE_INPUTS;
 use super::variables::{Causality, Field, Table, Variability};
 use std::sync::OnceLock;
 
@@ -11,7 +12,7 @@ use std::sync::OnceLock;
 pub enum RealSlot {
     /// No Real variable has this VR: the general path reports it.
     None,
-    /// A node input (`Field::Input`), by its index 13·node + idx in the flattened inputs.
+    /// A node input (`Field::Input`), by its index 19·node + idx in the flattened inputs.
     Input(u8),
     /// A node load (`Field::Load`), by its index 3·which + i: fa, ma, fb, mb.
     Load(u8),
@@ -61,7 +62,7 @@ pub fn real_tables(t: &'static Table) -> &'static RealTables {
                 continuous[v.vr as usize] = continuous_index(v.field).unwrap_or(NO_INDEX);
             }
             slots[v.vr as usize] = match (v.field, v.causality) {
-                (Field::Input { node, idx }, _) => RealSlot::Input(13 * node + idx),
+                (Field::Input { node, idx }, _) => RealSlot::Input(NODE_INPUTS as u8 * node + idx),
                 (Field::Load { which, i }, Causality::Output) => RealSlot::Load(3 * which + i),
                 (f, Causality::Output) => RealSlot::Output(f),
                 (f, _) => RealSlot::Param(f),

@@ -28,8 +28,16 @@ pub enum Mode {
     Fatal = 128,
 }
 
-/// Node inputs as set (raw, before normalisation): r(3), q(4: w x y z), v(3), ω(3).
-pub type NodeInputs = [Real; 13];
+/// Node inputs as set (raw, before normalisation): r(3), q(4: w x y z), v(3), ω(3), and the
+/// accelerations v̇(3), ω̇(3) that `cosim.extrapolation = 3` moves the node along.
+pub type NodeInputs = [Real; NODE_INPUTS];
+/// How many inputs a node has.
+pub const NODE_INPUTS: usize = 19;
+/// The node's pose and twist: the first 13 inputs (what the outputs depend on; the ones with
+/// input derivatives).
+pub const POSE_TWIST: usize = 13;
+/// The pose and twist of a node, or their input derivatives.
+pub type PoseTwist = [Real; POSE_TWIST];
 
 /// Everything that influences the future; `fmi2GetFMUstate` copies it.
 #[derive(Clone, Debug, PartialEq)]
@@ -46,10 +54,10 @@ pub struct Snapshot {
     pub params: Params,
     /// Node inputs a, b.
     pub inputs: [NodeInputs; 2],
-    /// First-order input derivatives (valid for the next step) and which are set.
-    pub input_der: [NodeInputs; 2],
+    /// First-order input derivatives of the pose and twist (valid for the next step).
+    pub input_der: [PoseTwist; 2],
     /// Which input derivatives are set.
-    pub input_der_set: [[bool; 13]; 2],
+    pub input_der_set: [[bool; POSE_TWIST]; 2],
     /// Committed connector state.
     pub state: State,
     /// The events the last step met.
@@ -96,7 +104,7 @@ impl Snapshot {
     /// in Mode::Instantiated.
     pub fn start(t: &Table) -> Snapshot {
         let mut params = Params::default();
-        let mut inputs = [[0.0; 13]; 2];
+        let mut inputs = [[0.0; NODE_INPUTS]; 2];
         for v in &t.vars {
             if let Start::Real(Some(x)) = v.start {
                 let _ = write_real(&mut params, &mut inputs, v, x);
@@ -115,8 +123,8 @@ impl Snapshot {
             start_time: 0.0,
             params,
             inputs,
-            input_der: [[0.0; 13]; 2],
-            input_der_set: [[false; 13]; 2],
+            input_der: [[0.0; POSE_TWIST]; 2],
+            input_der_set: [[false; POSE_TWIST]; 2],
             state: State::default(),
             event: LastEvent {
                 time: 0.0,

@@ -3,7 +3,7 @@
 //! Layout (little endian): magic `CFMU`, format version (u16), model identifier length (u8)
 //! and bytes, mode (u8), time and start time (f64), the variant's parameters in table order
 //! (Real f64, Integer i32, Boolean u8), its node inputs in table order (f64), the input
-//! derivatives that are set (u32 mask over the 26 node inputs, then their f64 values), the
+//! derivatives that are set (u32 mask over the 2 × 13 poses and twists, then their f64 values), the
 //! connector state, the last step's event record (time f64, count i32), the input history (u8
 //! flag, then time and the 12 velocity inputs as f64 when set), the event-function record (u8:
 //! 0 none, 1 near, 2 far; then a u32 mask of the functions taking part and their values), and an
@@ -12,7 +12,9 @@
 //! setters could have produced.
 
 use super::access::{read_int_param, read_real_param, write_int, write_real};
-use super::snapshot::{EventRecord, LastEvent, Mode, NodeInputs, Snapshot};
+use super::snapshot::{
+    EventRecord, LastEvent, Mode, NodeInputs, Snapshot, NODE_INPUTS, POSE_TWIST,
+};
 use super::variables::{Causality, CompPar, Field, Start, Table};
 use crate::physics::connector::{Energy, State};
 use crate::physics::events::N_EVENTS;
@@ -22,7 +24,7 @@ use crate::physics::math::Vec3;
 
 const MAGIC: &[u8; 4] = b"CFMU";
 /// Version of the byte format; bump on any layout change.
-pub const VERSION: u16 = 3;
+pub const VERSION: u16 = 4;
 
 struct W(Vec<u8>);
 
@@ -140,15 +142,15 @@ pub fn encode(t: &Table, s: &Snapshot) -> Vec<u8> {
     }
     let mut mask = 0u32;
     for n in 0..2 {
-        for i in 0..13 {
+        for i in 0..POSE_TWIST {
             if s.input_der_set[n][i] {
-                mask |= 1 << (13 * n + i);
+                mask |= 1 << (POSE_TWIST * n + i);
             }
         }
     }
     w.0.extend_from_slice(&mask.to_le_bytes());
     for n in 0..2 {
-        for i in 0..13 {
+        for i in 0..POSE_TWIST {
             if s.input_der_set[n][i] {
                 w.f(s.input_der[n][i]);
             }
@@ -263,7 +265,7 @@ pub fn decode(t: &Table, bytes: &[u8]) -> Result<Snapshot, String> {
     let time = r.f("time")?;
     let start_time = r.f("start time")?;
     let mut params = crate::physics::connector::Params::default();
-    let mut inputs: [NodeInputs; 2] = [[0.0; 13]; 2];
+    let mut inputs: [NodeInputs; 2] = [[0.0; NODE_INPUTS]; 2];
     inputs[0][3] = 1.0;
     inputs[1][3] = 1.0;
     for v in t
@@ -309,11 +311,11 @@ pub fn decode(t: &Table, bytes: &[u8]) -> Result<Snapshot, String> {
     if mask >> 26 != 0 {
         return Err("input-derivative mask has unknown bits".into());
     }
-    let mut input_der = [[0.0; 13]; 2];
-    let mut input_der_set = [[false; 13]; 2];
+    let mut input_der = [[0.0; POSE_TWIST]; 2];
+    let mut input_der_set = [[false; POSE_TWIST]; 2];
     for n in 0..2 {
-        for i in 0..13 {
-            if mask & (1 << (13 * n + i)) != 0 {
+        for i in 0..POSE_TWIST {
+            if mask & (1 << (POSE_TWIST * n + i)) != 0 {
                 input_der[n][i] = r.f("input derivative")?;
                 input_der_set[n][i] = true;
             }

@@ -10,6 +10,7 @@
 //!
 //! Value references are stable across variants: the same variable has the same VR everywhere.
 
+use super::snapshot::POSE_TWIST;
 use crate::physics::kinematics::{ConnectionType, Role, Rotational, Translational};
 use std::sync::OnceLock;
 
@@ -255,11 +256,12 @@ pub enum FrictionField {
 /// The storage a variable refers to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Field {
-    /// Node input: node 0 = a, 1 = b; idx 0..2 r, 3..6 q (w, x, y, z), 7..9 v, 10..12 ω.
+    /// Node input: node 0 = a, 1 = b; idx 0..2 r, 3..6 q (w, x, y, z), 7..9 v, 10..12 ω,
+    /// 13..15 v̇, 16..18 ω̇.
     Input {
         /// node
         node: u8,
-        /// index within the node's 13 inputs
+        /// index within the node's 19 inputs
         idx: u8,
     },
     /// Node load: which 0 a.f, 1 a.m, 2 b.f, 3 b.m; component i.
@@ -364,7 +366,11 @@ impl Table {
                 // positions and orientations: node inputs 0..6
                 matches!(v.field, Field::Input { idx, .. } if idx < 7)
             }),
-            Deps::All => index_of(&|v| v.causality == Causality::Input),
+            // every pose and twist input: node inputs 0..12 (not the accelerations, which
+            // only move the nodes over a step)
+            Deps::All => index_of(
+                &|v| matches!(v.field, Field::Input { idx, .. } if (idx as usize) < POSE_TWIST),
+            ),
             Deps::None => Vec::new(),
         };
         let mut init = inputs.clone();
@@ -440,7 +446,8 @@ const NONNEG: Range = (Some(0.0), None);
 const POSITIVE: Range = (Some(f64::from_bits(1)), None);
 /// 0 or 1 (Integer switches).
 const ZERO_ONE: Range = (Some(0.0), Some(1.0));
-const ZERO_TWO: Range = (Some(0.0), Some(2.0));
+/// 0 to 3 (cosim.extrapolation).
+const ZERO_THREE: Range = (Some(0.0), Some(3.0));
 
 const INF: f64 = f64::INFINITY;
 
@@ -673,7 +680,8 @@ use Variability::{Fixed, Tunable};
 /// accept (`model::access::check_real`, `write_int`) and its description is what a user reads.
 #[rustfmt::skip]
 const ROWS: &[Row] = &[
-    // ---- inputs: node poses and twists in W (node a: VR 1..13, node b: VR 21..33)
+    // ---- inputs: node poses and twists in W (node a: VR 1..13, node b: VR 21..33), and their
+    //      accelerations (a: VR 14..19, b: VR 34..39)
     input(1, "a.r[1]", 0, 0, "m", 0.0, "node a position, W component 1"),
     input(2, "a.r[2]", 0, 1, "m", 0.0, "node a position, W component 2"),
     input(3, "a.r[3]", 0, 2, "m", 0.0, "node a position, W component 3"),
@@ -687,6 +695,12 @@ const ROWS: &[Row] = &[
     input(11, "a.w[1]", 0, 10, "rad/s", 0.0, "node a angular velocity, W component 1"),
     input(12, "a.w[2]", 0, 11, "rad/s", 0.0, "node a angular velocity, W component 2"),
     input(13, "a.w[3]", 0, 12, "rad/s", 0.0, "node a angular velocity, W component 3"),
+    input(14, "a.dv[1]", 0, 13, "m/s2", 0.0, "node a acceleration, W component 1: with cosim.extrapolation = 3 the node moves over the next step along it (ignored otherwise)"),
+    input(15, "a.dv[2]", 0, 14, "m/s2", 0.0, "node a acceleration, W component 2: with cosim.extrapolation = 3 the node moves over the next step along it (ignored otherwise)"),
+    input(16, "a.dv[3]", 0, 15, "m/s2", 0.0, "node a acceleration, W component 3: with cosim.extrapolation = 3 the node moves over the next step along it (ignored otherwise)"),
+    input(17, "a.dw[1]", 0, 16, "rad/s2", 0.0, "node a angular acceleration, W component 1: with cosim.extrapolation = 3 the node moves over the next step along it (ignored otherwise)"),
+    input(18, "a.dw[2]", 0, 17, "rad/s2", 0.0, "node a angular acceleration, W component 2: with cosim.extrapolation = 3 the node moves over the next step along it (ignored otherwise)"),
+    input(19, "a.dw[3]", 0, 18, "rad/s2", 0.0, "node a angular acceleration, W component 3: with cosim.extrapolation = 3 the node moves over the next step along it (ignored otherwise)"),
     input(21, "b.r[1]", 1, 0, "m", 0.0, "node b position, W component 1"),
     input(22, "b.r[2]", 1, 1, "m", 0.0, "node b position, W component 2"),
     input(23, "b.r[3]", 1, 2, "m", 0.0, "node b position, W component 3"),
@@ -700,6 +714,12 @@ const ROWS: &[Row] = &[
     input(31, "b.w[1]", 1, 10, "rad/s", 0.0, "node b angular velocity, W component 1"),
     input(32, "b.w[2]", 1, 11, "rad/s", 0.0, "node b angular velocity, W component 2"),
     input(33, "b.w[3]", 1, 12, "rad/s", 0.0, "node b angular velocity, W component 3"),
+    input(34, "b.dv[1]", 1, 13, "m/s2", 0.0, "node b acceleration, W component 1: with cosim.extrapolation = 3 the node moves over the next step along it (ignored otherwise)"),
+    input(35, "b.dv[2]", 1, 14, "m/s2", 0.0, "node b acceleration, W component 2: with cosim.extrapolation = 3 the node moves over the next step along it (ignored otherwise)"),
+    input(36, "b.dv[3]", 1, 15, "m/s2", 0.0, "node b acceleration, W component 3: with cosim.extrapolation = 3 the node moves over the next step along it (ignored otherwise)"),
+    input(37, "b.dw[1]", 1, 16, "rad/s2", 0.0, "node b angular acceleration, W component 1: with cosim.extrapolation = 3 the node moves over the next step along it (ignored otherwise)"),
+    input(38, "b.dw[2]", 1, 17, "rad/s2", 0.0, "node b angular acceleration, W component 2: with cosim.extrapolation = 3 the node moves over the next step along it (ignored otherwise)"),
+    input(39, "b.dw[3]", 1, 18, "rad/s2", 0.0, "node b angular acceleration, W component 3: with cosim.extrapolation = 3 the node moves over the next step along it (ignored otherwise)"),
     // ---- outputs: node loads, what the connector exerts on the node, in W
     load(101, "a.f[1]", 0, 0, "N", "force on node a, W component 1"),
     load(102, "a.f[2]", 0, 1, "N", "force on node a, W component 2"),
@@ -842,7 +862,7 @@ const ROWS: &[Row] = &[
     scalar(616, "friction.stickStiffnessR1", ScalarPar::StickKr, Start::Real(Some(1e4)), "N.m/rad", POSITIVE, "elastic stick stiffness of spin, > 0 (0 is refused)"),
     scalar(617, "friction.maxForce", ScalarPar::MaxForce, Start::Real(Some(INF)), "N", NONNEG, "cap on the sliding friction force, ≥ 0 (+INF = none)"),
     scalar(618, "friction.coupling", ScalarPar::Coupling, Start::Integer(Some(0)), "", ZERO_ONE, "0 separate sliding and spin (Abaqus), 1 coupled: ellipsoidal limit, disc flow (needs friction.R > 0)"),
-    scalar(619, "cosim.extrapolation", ScalarPar::Extrapolation, Start::Integer(Some(1)), "", ZERO_TWO, "input extrapolation over a step: 0 hold, 1 linear (positions and orientations along the velocities; velocities along their FMI 2.0 input derivatives where set), 2 second order (positions and orientations also along the accelerations; accelerations from the input derivatives of the velocities where set, otherwise from the velocity inputs of the previous communication point)"),
+    scalar(619, "cosim.extrapolation", ScalarPar::Extrapolation, Start::Integer(Some(1)), "", ZERO_THREE, "input extrapolation over a step: 0 hold, 1 linear (positions and orientations along the velocities; velocities along their FMI 2.0 input derivatives where set), 2 second order (positions and orientations also along the accelerations; accelerations from the input derivatives of the velocities where set, otherwise from the velocity inputs of the previous communication point), 3 second order along the acceleration inputs a.dv, a.dw, b.dv, b.dw (the path the importer's bodies follow; FMI 3.0 has no input derivatives)"),
     scalar(620, "cosim.maxSubstep", ScalarPar::MaxSubstep, Start::Real(Some(0.0)), "s", NONNEG, "largest internal substep, ≥ 0 (0: from the path alone)"),
     scalar(621, "friction.stickDamping", ScalarPar::StickC, Start::Real(Some(0.0)), "N.s/m", NONNEG, "stick damping of sliding, parallel to the stick spring, ≥ 0 (0: Abaqus)"),
     scalar(622, "friction.stickDampingR1", ScalarPar::StickCr, Start::Real(Some(0.0)), "N.m.s/rad", NONNEG, "stick damping of spin, parallel to the stick spring, ≥ 0 (0: Abaqus)"),
@@ -856,7 +876,7 @@ fn present(ct: ConnectionType, field: &Field) -> bool {
     let has_rot = roles[3..].contains(&Role::Available);
     match *field {
         Field::Input { node, idx } => match idx {
-            0..=2 | 7..=9 => ct.uses_positions(),
+            0..=2 | 7..=9 | 13..=15 => ct.uses_positions(),
             _ if node == 0 => ct.uses_orientation_a(),
             _ => ct.uses_orientation_b(),
         },

@@ -49,6 +49,9 @@ pub enum Extrapolation {
     /// derivatives of the velocities where given, otherwise from the velocity inputs of the
     /// previous communication point (the input history; FMI 3.0 has no input derivatives).
     Quadratic,
+    /// Second order as `Quadratic`, with v̇ and ω̇ the acceleration inputs (a.dv, a.dw, b.dv,
+    /// b.dw): the importer gives the path its own bodies follow, in either FMI version.
+    Accelerations,
 }
 
 /// Connector parameters, per component slot k−1 for the Abaqus component k.

@@ -44,7 +44,7 @@ impl Rates {
         }
     }
 
-    /// First-order extrapolation of node `n` from the derivatives of its 13 inputs (r, q as
+    /// First-order extrapolation of node `n` from the derivatives of its 13 pose and twist inputs (r, q as
     /// given `q_raw` = w x y z before normalisation, v, ω) where `set`, its own velocities
     /// elsewhere. Quaternion derivatives give the angular rate ω = 2 q̇ ⊗ q* (q̇ scaled like
     /// the normalised q).
@@ -99,6 +99,24 @@ impl Rates {
             }
         }
         r
+    }
+
+    /// Second-order extrapolation along given accelerations `acc` = (v̇, ω̇): `linear` (the
+    /// position and orientation derivatives where set), with v̇ and ω̇ from `acc` and moving
+    /// the pose too.
+    pub fn along(
+        n: &Node,
+        q_raw: &[Real],
+        der: &[Real; 13],
+        set: &[bool; 13],
+        acc: &[Real; 6],
+    ) -> Rates {
+        Rates {
+            dv: Vec3::new(acc[0], acc[1], acc[2]),
+            dw: Vec3::new(acc[3], acc[4], acc[5]),
+            second_order: true,
+            ..Rates::linear(n, q_raw, der, set)
+        }
     }
 }
 

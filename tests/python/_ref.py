@@ -245,7 +245,8 @@ def force_names(cp_name):
 
 
 def input_names(variant):
-    """FMU input variable names of the variant, in a fixed order."""
+    """FMU input variable names of the variant, in a fixed order: the poses and twists, then the
+    accelerations of the velocities the variant has (v -> dv, w -> dw)."""
     spec = VARIANTS[variant]
     names = []
     for node in ("a", "b"):
@@ -254,6 +255,10 @@ def input_names(variant):
                 names += [f"{node}.q.{c}" for c in "wxyz"]
             else:
                 names += [f"{node}.{kind}[{j}]" for j in (1, 2, 3)]
+    for node in ("a", "b"):
+        for kind in spec[node]:
+            if kind in "vw":
+                names += [f"{node}.d{kind}[{j}]" for j in (1, 2, 3)]
     return names
 
 

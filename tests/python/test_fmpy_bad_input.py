@@ -189,6 +189,24 @@ def test_nonfinite_value_refused(conn, variant, phase):
     assert c.drive(20) == clean_run(conn, variant, 3, 20)
 
 
+@pytest.mark.parametrize("variant", VARIANTS)
+def test_input_derivative_of_an_acceleration_refused(conn, variant):
+    """The acceleration inputs (a.dv, a.dw, b.dv, b.dw) are themselves derivatives: a finite
+    fmi2SetRealInputDerivatives on one is refused with a message naming it, in the same call as
+    a valid one, and nothing is stored (all or nothing): the run goes on like a clean one."""
+    c = conn(variant).start(base_params(variant), motion_inputs(variant, 0.0))
+    c.drive(3)
+    before = c.values()
+    acc = [r for r in c.real_in if r.name[1:4] in (".dv", ".dw")]
+    assert acc, "every variant has acceleration inputs"
+    pose = [r for r in c.real_in if r not in acc][0]
+    for r in acc:
+        refused(c, c.s.setRealInputDerivatives, [pose, r], [1, 1], [1.0, 2.0],
+                names=[r.name, "takes no input derivative"])
+    assert c.values() == before
+    assert c.drive(20) == clean_run(conn, variant, 3, 20)
+
+
 # ==========================================================================
 # degenerate quaternion
 # ==========================================================================

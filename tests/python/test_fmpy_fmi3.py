@@ -105,7 +105,10 @@ def _driven_inputs(variant, t_end=0.3, dt=1e-3):
             "b.r[3]": 0.005 * np.sin(w * t),
             # a rotation about x by θ = 0.05 sin(w t)
             "b.q.w": np.cos(0.025 * np.sin(w * t)), "b.q.x": np.sin(0.025 * np.sin(w * t)),
-            "b.w[1]": 0.05 * w * np.cos(w * t)}
+            "b.w[1]": 0.05 * w * np.cos(w * t),
+            # the accelerations of that drive (they move the nodes with cosim.extrapolation = 3)
+            "b.dv[1]": -a * w * w * np.sin(w * t), "b.dv[2]": -2 * a * w * w * np.sin(2 * w * t),
+            "b.dv[3]": -0.005 * w * w * np.sin(w * t), "b.dw[1]": -0.05 * w * w * np.sin(w * t)}
     cols = {k: v for k, v in cols.items() if k in names}
     dtype = [("time", np.float64)] + [(k, np.float64) for k in cols]
     signal = np.zeros(len(t), dtype=dtype)
@@ -182,7 +185,7 @@ def test_scene_trajectories_equal_the_fmi2_twin(monkeypatch, scene, method, H):
 
 # ------------------------------------------------------------------ derivatives, state
 
-def _pair(variant):
+def _pair(variant, extrapolation=1):
     """FMU2Slave and FMU3Slave of one variant, initialised with the same friction and stops."""
     md2 = read_model_description(str(REPO / "dist" / f"{variant}.fmu"))
     s2 = FMU2Slave(guid=md2.guid, unzipDirectory=extract(str(REPO / "dist" / f"{variant}.fmu")),
@@ -198,6 +201,8 @@ def _pair(variant):
     for name, x in _start_values(variant).items():
         s2.setReal([vr[name].valueReference], [x])
         s3.setFloat64([vr[name].valueReference], [x])
+    s2.setInteger([vr["cosim.extrapolation"].valueReference], [extrapolation])
+    s3.setInt32([vr["cosim.extrapolation"].valueReference], [extrapolation])
     s2.exitInitializationMode()
     s3.exitInitializationMode()
     return s2, s3, vr
@@ -241,6 +246,29 @@ def test_directional_and_adjoint_derivatives(variant):
     finally:
         for s in (s2, s3):
             s.terminate()
+            s.freeInstance()
+
+
+@pytest.mark.parametrize("variant", VARIANTS)
+def test_acceleration_inputs_equal_the_fmi2_twin(variant):
+    """cosim.extrapolation = 3 (the nodes move along the acceleration inputs, FMI 3.0's way to
+    give the path FMI 2.0 gives through input derivatives): every output of the twins is the
+    same double after every step of the drive, and the drive's accelerations did move the
+    nodes (the poses read back differ from a run with extrapolation 1)."""
+    s2, s3, vr = _pair(variant, extrapolation=3)
+    l2, l3, vr1 = _pair(variant, extrapolation=1)
+    outs = [v.valueReference for v in vr.values() if v.causality == "output" and v.type == "Float64"]
+    pose = [v.valueReference for v in vr.values() if v.causality == "input"
+            and v.name[1:4] not in (".dv", ".dw")]
+    try:
+        for k in range(0, 120, 10):
+            _drive(s2, s3, vr, steps=10, k0=k)
+            _drive(l2, l3, vr1, steps=10, k0=k)
+            assert np.array_equal(bits(s3.getFloat64(outs)), bits(s2.getReal(outs))), k
+            assert np.array_equal(bits(s3.getFloat64(pose)), bits(s2.getReal(pose))), k
+        assert not np.array_equal(bits(s3.getFloat64(pose)), bits(l3.getFloat64(pose)))
+    finally:
+        for s in (s2, s3, l2, l3):
             s.freeInstance()
 
 

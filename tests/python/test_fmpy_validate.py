@@ -97,11 +97,11 @@ def test_inputs_are_exactly_the_variant_nodes(variant):
     V = _by_name(md)
     for n in inputs:
         assert V[n].type == "Real" and V[n].variability == "continuous", n
-    # sensible defaults: identity orientation, zero velocities
+    # sensible defaults: identity orientation, zero velocities and accelerations
     for node in ("a", "b"):
         if f"{node}.q.w" in V:
             assert [float(V[f"{node}.q.{c}"].start) for c in "wxyz"] == [1.0, 0.0, 0.0, 0.0]
-        for kind in ("v", "w"):
+        for kind in ("v", "w", "dv", "dw"):
             for j in (1, 2, 3):
                 if f"{node}.{kind}[{j}]" in V:
                     assert float(V[f"{node}.{kind}[{j}]"].start) == 0.0
