@@ -30,7 +30,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from cosim import sweep as engine  # noqa: E402
-from cosim.master import EV_METHODS, FMI2_ONLY, FMI3_SUFFIX, METHODS, split_method  # noqa: E402
+from cosim.master import EV_METHODS, FMI3_SUFFIX, METHODS, split_method  # noqa: E402
 from cosim.master import label as method_label  # noqa: E402
 from cosim.scenes import SCENES  # noqa: E402
 
@@ -54,8 +54,7 @@ def methods_of(scene, quick=False):
     if scene.name in EVENT_SCENES:
         ev = EV_SWEEP[scene.name][:-2] if quick else EV_SWEEP[scene.name]
         out += [(m, ev) for m in EV_METHODS]
-        out += [(m + FMI3_SUFFIX, [H for H in FMI3_SWEEP if H in ev]) for m in EV_METHODS
-                if m not in FMI2_ONLY]
+        out += [(m + FMI3_SUFFIX, [H for H in FMI3_SWEEP if H in ev]) for m in EV_METHODS]
     return out
 FIXED = ["scene", "method", "H", "steps", "cpu_s", "us_per_step", "fmi_calls", "calls_per_step",
          "rollback_passes", "events", "failed", "error", "error2"]

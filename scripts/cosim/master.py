@@ -70,7 +70,8 @@ class Connector(driver.Connector):
     _count = 0
     version = 2
 
-    def __init__(self, variant, params, init_inputs, in_names, out_names, unzipdir=None):
+    def __init__(self, variant, params, init_inputs, in_names, out_names, unzipdir=None,
+                 acc_names=()):
         model_description(variant)
         Connector._count += 1
         s = driver.instantiate(variant, unzipped(variant, unzipdir),
@@ -97,7 +98,15 @@ class Connector(driver.Connector):
                                           s.fmi2SetFMUstate)
         self.ev_vr = (fmi2ValueReference * 1)(self.vr["event.time"])
         self.ev_buf = (fmi2Real * 1)()
+        self._acc_buffers([self.vr[n] for n in acc_names])
         self.calls = 0          # FMI calls made through the per-step paths
+
+    def _acc_buffers(self, refs):
+        """The acceleration inputs the master writes (`acc`, `set_accelerations`), by VR."""
+        self.nacc = len(refs)
+        self.vacc = (ctypes.c_uint32 * self.nacc)(*refs)
+        self.xacc = (ctypes.c_double * self.nacc)()
+        self.acc = np.ctypeslib.as_array(self.xacc) if self.nacc else np.zeros(0)
 
     # --- per-step calls (prepared buffers only) ------------------------------------------------
     def set_inputs(self):
@@ -111,6 +120,11 @@ class Connector(driver.Connector):
 
     def set_rates(self):
         self._setDer(self.c, self.vin, self.nin, self.order, self.din)
+        self.calls += 1
+
+    def set_accelerations(self):
+        """The acceleration inputs (buffer `acc`): the path with cosim.extrapolation = 3."""
+        self._setReal(self.c, self.vacc, self.nacc, self.xacc)
         self.calls += 1
 
     def do_step(self, t, H, no_rollback=True):
@@ -163,7 +177,7 @@ class Connector3(Connector):
     version = 3
 
     def __init__(self, variant, params, init_inputs, in_names, out_names, unzipdir=None,
-                 early_return=True):
+                 acc_names=(), early_return=True):
         path = Path(DIST) / FMI3 / f"{variant}.fmu"
         try:
             md = driver._read(str(path))
@@ -198,6 +212,7 @@ class Connector3(Connector):
         self.seed, self.dd = np.ctypeslib.as_array(self.seed_c), np.ctypeslib.as_array(self.dd_c)
         self.ev_vr = (fmi3ValueReference * 1)(self.vr["event.time"].valueReference)
         self.ev_buf = (fmi3Float64 * 1)()
+        self._acc_buffers([self.vr[n].valueReference for n in acc_names])
         self._flags = [fmi3Boolean() for _ in range(3)]
         self._last = fmi3Float64()
         self._flag_refs = [ctypes.byref(f) for f in self._flags] + [ctypes.byref(self._last)]
@@ -228,6 +243,10 @@ class Connector3(Connector):
 
     def set_rates(self):
         """No input derivatives in FMI 3.0."""
+
+    def set_accelerations(self):
+        self.s.fmi3SetFloat64(self.c, self.vacc, self.nacc, self.xacc, self.nacc)
+        self.calls += 1
 
     def do_step_early(self, t, H):
         """fmi3DoStep; returns (earlyReturn, lastSuccessfulTime)."""
@@ -336,6 +355,7 @@ class AxesBody:
             self._pos.append(j)
             j += 1 if kind == "r" else 2
         self._vel = list(range(j, j + self.n))
+        self.vel_inputs = self._vel     # where each coordinate's velocity sits in the inputs
         self.rot = np.array([k == "w" for k, _ in coords])
         self.Kext, self.Dext = -np.diag(self.kg), np.zeros((self.n, self.n))
 
@@ -419,6 +439,7 @@ class RigidBody:
     in_names = ([f"b.r[{i}]" for i in (1, 2, 3)] + ["b.q.w", "b.q.x", "b.q.y", "b.q.z"]
                 + [f"b.v[{i}]" for i in (1, 2, 3)] + [f"b.w[{i}]" for i in (1, 2, 3)])
     load_names = [f"b.f[{i}]" for i in (1, 2, 3)] + [f"b.m[{i}]" for i in (1, 2, 3)]
+    vel_inputs = list(range(7, 13))     # u = (v, ω): the inputs b.v, b.w
 
     def __init__(self, mass, inertia, max_turn=0.05):
         self.m, self.J = float(mass), np.asarray(inertia, float)
@@ -769,27 +790,28 @@ RESTART = {"linear_path_ev": 0.01}
 
 
 def linear_path_ev(c, t, H):
-    """Linear-implicit on the master's own path, event-located (FMI 2.0: input derivatives).
+    """Linear-implicit on the master's own path, event-located.
     The θ-step over the whole H comes first, from the same linearisation as
     `linear_implicit_ev`: (M − θHD − ½θH²K) Δv = H((1 − θ)Q0 + θF_pred), a = Δv/H. The FMU is
-    driven along that path (velocity input derivatives a: its second-order extrapolation
-    r + vτ + ½aτ² is then the body's path), to t + H or the first event t1; the body moves along
+    driven along that path (the acceleration inputs b.dv, b.dw set to a, cosim.extrapolation = 3:
+    its path r + vτ + ½aτ² is then the body's path), to t + H or the first event t1; the body moves along
     the same path to t1: x += h(v + ½ah), v += ah, h = t1 − t. So the FMU commits its friction
     and stops along exactly the path the body takes, and the next step's read at the body sees
     no offset from it (a stick spring of 1e6 N/m turns a µm offset into newtons).
     θ = 1 on a step that starts at t = 0 or at an event (it damps what the event leaves behind
     in a stiff stick spring), θ = ½ between events (second order); after an event the first
     step is H/100 long (RESTART), so that the load jump at the event (μ_s → μ_k at a breakaway) does
-    not ride on a whole step's linearisation. FMI 2.0 only: FMI 3.0 has no input derivatives."""
+    not ride on a whole step's linearisation. The acceleration inputs are plain inputs, so both
+    FMI versions take the same calls (FMI 3.0 has no input derivatives)."""
     b, p, u = c.body, c.p, c.u
     th = 1.0 if c.fresh else 0.5
     Q0, Qp, K, D = _linearise(c, t, H)
     A = b.mass(p) - th * H * D - 0.5 * th * H * H * K
     du = np.linalg.solve(A, H * ((1.0 - th) * Q0 + th * Qp))
     a = du / H
-    # inputs at (t, p, u) are set (_linearise); derivatives: ṙ = v (the velocity input), v̇ = a
-    b.rates(t, H, p, u, b.retract(p, H * u), u + du, c.fmu.d)
-    c.fmu.set_rates()
+    # inputs at (t, p, u) are set (_linearise); the path's accelerations: v̇ = a
+    c.fmu.acc[:] = a
+    c.fmu.set_accelerations()
     t1 = step_fmu(c, t, H)
     h = t1 - t
     c.p, c.u = b.retract(p, h * (u + 0.5 * h * a)), u + h * a
@@ -800,7 +822,21 @@ METHODS = {"zoh": zoh, "extrapolation": extrapolation, "linear_implicit": linear
            "rollback": rollback}
 EV_METHODS = {"extrapolation_ev": extrapolation_ev, "linear_implicit_ev": linear_implicit_ev,
               "linear_exact_ev": linear_exact_ev, "linear_path_ev": linear_path_ev}
-FMI2_ONLY = ("linear_path_ev",)     # event-located methods that need fmi2SetRealInputDerivatives
+# cosim.extrapolation per method: 0 hold, 1 linear along the velocities (and, FMI 2.0, the input
+# derivatives), 2 second order from the previous communication point, 3 along the acceleration
+# inputs the method sets
+EXTRAPOLATION = {"zoh": 0, **{m: EXTRAPOLATION_EV for m in EV_METHODS}, "linear_path_ev": 3}
+ACC_METHODS = ("linear_path_ev",)   # methods that set the acceleration inputs
+
+
+def connector_args(base, body):
+    """(cosim.extrapolation, acceleration input names) of method `base` on `body`: the
+    acceleration inputs of the body's velocity inputs (b.v[i] → b.dv[i], b.w[i] → b.dw[i]), in
+    the order of its coordinates, for the methods that set them."""
+    acc = [body.in_names[k].replace(".v[", ".dv[").replace(".w[", ".dw[")
+           for k in body.vel_inputs] if base in ACC_METHODS else []
+    return EXTRAPOLATION.get(base, 1), acc
+
 ALL_METHODS = {**METHODS, **EV_METHODS}
 LABELS = {"zoh": "explicit, zero-order hold", "extrapolation": "explicit, input extrapolation",
           "linear_implicit": "linear-implicit (directional derivatives)",
@@ -842,17 +878,13 @@ def simulate(scene, method, H, t_end=None, unzipdir=None, record=None, fail_ok=T
     or shorter for a method in RESTART; the last step ends at t_end)."""
     t_end = scene.t_end if t_end is None else t_end
     base, version = split_method(method)
-    if version == 3 and base in FMI2_ONLY:
-        raise ValueError(f"{base} drives the FMU with input derivatives, which FMI 3.0 does not "
-                         "have: FMI 2.0 only")
     N = int(round(t_end / H))
     body = scene.body()
     params = dict(scene.params)
-    params["cosim.extrapolation"] = (0 if base == "zoh" else
-                                     EXTRAPOLATION_EV if base in EV_METHODS else 1)
+    params["cosim.extrapolation"], acc = connector_args(base, body)
     cls = Connector3 if version == 3 else Connector
     fmu = cls(scene.variant, params, scene.init_inputs(), body.in_names,
-              body.load_names + list(record or []), unzipdir=unzipdir)
+              body.load_names + list(record or []), unzipdir=unzipdir, acc_names=acc)
     try:
         scene.after_init(fmu)
         c = Coupled(body, fmu, *scene.initial_state(), **scene.method_options(base))

@@ -16,8 +16,8 @@ import numpy as np
 
 from fmpy.fmi1 import FMICallException
 
-from .master import (ALL_METHODS, EV_METHODS, EXTRAPOLATION_EV, AxesBody, Connector, CosimFailure,
-                     Coupled, RigidBody, expm, quat_exp, quat_log)
+from .master import (ALL_METHODS, AxesBody, Connector, CosimFailure, Coupled, RigidBody,
+                     connector_args, expm, quat_exp, quat_log)
 
 G = 9.81
 IDENTITY = {"w": 1.0, "x": 0.0, "y": 0.0, "z": 0.0}
@@ -553,10 +553,9 @@ class OneStepMap:
         self.osc = Oscillator(zeta=zeta, **kw)
         body = self.osc.body()
         params = dict(self.osc.params)
-        params["cosim.extrapolation"] = (0 if method == "zoh" else
-                                         EXTRAPOLATION_EV if method in EV_METHODS else 1)
+        params["cosim.extrapolation"], acc = connector_args(method, body)
         self.fmu = Connector(self.osc.variant, params, self.osc.init_inputs(), body.in_names,
-                             body.load_names, unzipdir=unzipdir)
+                             body.load_names, unzipdir=unzipdir, acc_names=acc)
         self.c = Coupled(body, self.fmu, *self.osc.initial_state(), **self.osc.method_options(method))
         self.c.fresh = False          # a step between events: the map the methods iterate
         self.s0 = self.fmu.s.getFMUstate()

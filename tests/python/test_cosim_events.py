@@ -12,12 +12,14 @@ Checked against answers the project did not invent:
   linear_implicit_ev; the unlocated kink where the clipped force k p + c ṗ reaches zero is what
   remains) and smaller at H = 0.5 ms;
 - FMI 3.0 and FMI 2.0 routes: the same located events and the same run to 1e-12 (both walk the
-  same path; the FMU's event time is the same double), FMI 3.0 with fewer FMI calls (no state
-  saving);
+  same path and locate each event to 1e-10 of the step; 1e-11 on the belt, whose stick spring
+  carries the spread from event to event), the same error to 1e-9, FMI 3.0 with fewer FMI calls
+  (no state saving);
 - §7 oscillator: linear_exact_ev's one-step map measured through the FMU has the spectral
   radius exp(−ζωH) of the exact solution (to 1e-6 relative or absolute: the FMU's directional
   derivatives are exact to about that); linear_path_ev's has the trapezoidal rule's (θ = ½).
-- linear_path_ev (the FMU driven along the master's own path, FMI 2.0 input derivatives):
+- linear_path_ev (the FMU driven along the master's own path: its acceleration inputs and
+  cosim.extrapolation = 3, in both FMI versions):
   puck stop times equal the rigid closed forms to 1e-9 at H = 10, 2 and 1 ms (the first step,
   θ = 1 linearised at the slipping predictor, decelerates the body at exactly μg from t = 0, and
   the path is exact for a constant deceleration); the belt's cycle (SCENES §1) within the
@@ -73,18 +75,25 @@ def test_bounce_against_the_closed_form(method):
     assert errs[5e-4] < 1.5e-3, errs
 
 
-@pytest.mark.parametrize("scene,method", [(Puck(coupling=0), "linear_implicit_ev"),
-                                          (Bounce(), "linear_exact_ev"),
-                                          (Bounce(), "extrapolation_ev")],
+# tol: on the sample times and positions. The two routes locate each event within 1e-10 of the
+# step (early return just past the crossing, rollback re-stepping to event.time); on the belt the
+# stick spring (1e6 N/m) carries that spread from event to event: 2.2e-12 s after 10 events
+# (measured), so 1e-11 there.
+@pytest.mark.parametrize("scene,method,tol", [(Puck(coupling=0), "linear_implicit_ev", 1e-12),
+                                              (Bounce(), "linear_exact_ev", 1e-12),
+                                              (Bounce(), "extrapolation_ev", 1e-12),
+                                              (Puck(coupling=0), "linear_path_ev", 1e-12),
+                                              (Belt(), "linear_path_ev", 1e-11)],
                          ids=["puck0-linear_implicit_ev", "bounce-linear_exact_ev",
-                              "bounce-extrapolation_ev"])
-def test_fmi3_early_return_equals_fmi2_rollback(scene, method):
+                              "bounce-extrapolation_ev", "puck0-linear_path_ev",
+                              "belt-linear_path_ev"])
+def test_fmi3_early_return_equals_fmi2_rollback(scene, method, tol):
     r2 = simulate(scene, method, 1e-3, fail_ok=False)
     r3 = simulate(scene, method + "@fmi3", 1e-3, fail_ok=False)
     assert r2.events == r3.events > 0
     assert len(r2.t) == len(r3.t)
-    assert max(abs(a - b) for a, b in zip(r2.t, r3.t)) < 1e-12
-    assert abs(r2.u - r3.u).max() < 1e-9 and abs(r2.p - r3.p).max() < 1e-12
+    assert max(abs(a - b) for a, b in zip(r2.t, r3.t)) < tol
+    assert abs(r2.u - r3.u).max() < 1e-9 and abs(r2.p - r3.p).max() < tol
     e2, e3 = scene.measure(r2)["error"], scene.measure(r3)["error"]
     assert abs(e2 - e3) < 1e-9
     assert r3.calls < r2.calls     # no fmi2GetFMUstate per step, no re-step
@@ -121,11 +130,6 @@ def test_path_ev_belt_at_large_steps():
     assert errs[1e-3] <= 2.7e-4, errs      # measured 5.6e-5
     assert errs[5e-3] <= 1e-3, errs        # measured 3.0e-4
     assert errs[1e-2] < 0.2, errs          # measured 0.12: a cycle, not an accurate one
-
-
-def test_path_ev_is_fmi2_only():
-    with pytest.raises(ValueError, match="FMI 2.0 only"):
-        simulate(Puck(coupling=0), "linear_path_ev@fmi3", 1e-3)
 
 
 @pytest.mark.parametrize("zeta", [0.0, 0.5])
