@@ -1030,7 +1030,8 @@ impl<'a, A: Api> Program<'a, A> {
     }
 
     /// A coherent parameter set: each parameter of the variant set (or not) to a plausible
-    /// value, sometimes an awkward one; Integer parameters 0/1.
+    /// value, sometimes an awkward one; Integer parameters 0..3 (cosim.extrapolation's range;
+    /// friction.coupling refuses 2 and 3).
     fn param_set(&mut self, i: usize, v: Variant) {
         let mut vrs = Vec::new();
         let mut xs = Vec::new();
@@ -1047,7 +1048,7 @@ impl<'a, A: Api> Program<'a, A> {
                 }
                 Start::Integer(_) => {
                     ivrs.push(var.vr);
-                    ixs.push((self.b.u8() % 3) as i32);
+                    ixs.push((self.b.u8() % 4) as i32);
                 }
                 Start::Boolean(_) => {}
             }
@@ -1151,7 +1152,7 @@ impl<'a, A: Api> Program<'a, A> {
                     0 => i32::MIN,
                     1 => i32::MAX,
                     2 => -1,
-                    _ => (self.b.u8() % 3) as i32,
+                    _ => (self.b.u8() % 4) as i32,
                 };
                 self.trace.push(format!("setInteger[{i}] {vr} {x}"));
                 self.call(i, A::SET_INT, |c| A::set_int(c, &vr, 1, &x));
