@@ -1203,15 +1203,24 @@ fn continuous_outputs(v: Variant) -> Vec<u32> {
         .collect()
 }
 
-/// BENCH_TANGENT=1: what one directional derivative costs against one kernel evaluation, on
-/// every variant with its behaviours on, a quarter period into its path: interleaved batches of
-/// (a) fmi2GetDirectionalDerivative of every continuous output along one node input (b.r[2],
-/// b.r[1] or b.q.x where that is what there is), (b) fmi2SetReal of one input to a new value and
-/// fmi2GetReal of one output (one kernel evaluation at the new inputs, plus the two calls),
-/// medians of 15 batches of 2000 calls; printed as ns per call and the ratio (a)/(b).
+/// BENCH_TANGENT=1: what a directional derivative costs against one kernel evaluation, on
+/// every variant with its behaviours on, a quarter period into its path. Interleaved batches,
+/// each call sequence at a new point (one node input set to another value first):
+/// (e) fmi2SetReal of one input + fmi2GetReal of one output: one kernel evaluation at the new
+///     inputs, plus the two calls;
+/// (d) (e) + fmi2GetDirectionalDerivative of every continuous output along one node input
+///     (b.r[2], b.r[1] or b.q.x where that is what there is): the first derivative at a point,
+///     one evaluation in `Dual`;
+/// (j) (e) + the n derivatives of every continuous output along each input of node b in
+///     turn (n = 13; 7 or 6 where node b has an orientation or positions only), as a
+///     linear-implicit master asks for its Jacobian: each one evaluation in `Dual`.
+/// Printed: ns per (e), (d), (j), the first derivative's cost ((d) − (e)) / (e), and the cost
+/// per derivative of the Jacobian ((j) − (e)) / n / (e); medians of 15 batches of 1000.
 /// BENCH_ONLY=<variant> measures that variant alone.
 fn tangent_cost(only: Option<&str>) {
-    println!("variant, ns per directional derivative, ns per set+get (one evaluation), ratio");
+    println!(
+        "variant, ns per set+get (e), set+get+derivative (d), set+get+n derivatives (j), n, first derivative / evaluation, Jacobian per derivative / evaluation"
+    );
     for v in VARIANTS {
         if only.is_some_and(|o| o != name_of(v)) {
             continue;
@@ -1220,44 +1229,59 @@ fn tangent_cost(only: Option<&str>) {
         rounds(&REAL, &mut f, PERIOD / 4);
         let t = table(v);
         let cont = continuous_outputs(v);
+        let vr_of = |n: &str| t.vars.iter().find(|x| x.name == n).map(|x| x.vr);
         let seed = ["b.r[2]", "b.r[1]", "b.q.x"]
             .iter()
-            .find_map(|n| t.vars.iter().find(|x| x.name == *n))
-            .map(|x| x.vr)
+            .find_map(|n| vr_of(n))
             .expect("a node input");
+        let node_b: Vec<u32> = t
+            .vars
+            .iter()
+            .filter(|x| matches!(x.field, Field::Input { node: 1, idx } if idx < 13))
+            .map(|x| x.vr)
+            .collect();
         let mut x = 0.0;
         ok(f.env, fmi::fmi2GetReal(f.c, &seed, 1, &mut x), "seed input");
         let mut dd = vec![0.0; cont.len()];
-        let (mut a, mut b) = (vec![], vec![]);
-        const N: usize = 2000;
-        for _ in 0..15 {
+        let (mut e, mut d, mut j) = (vec![], vec![], vec![]);
+        const N: usize = 1000;
+        let mut y = 0.0;
+        let mut batch = |derivatives: &[u32], f: &mut Inst| {
             let t0 = Instant::now();
-            for _ in 0..N {
-                let s = fmi::fmi2GetDirectionalDerivative(
-                    f.c,
-                    cont.as_ptr(),
-                    cont.len(),
-                    &seed,
-                    1,
-                    &1.0,
-                    dd.as_mut_ptr(),
-                );
-                ok(f.env, s, "directional derivative");
-            }
-            a.push(t0.elapsed().as_nanos() as f64 / N as f64);
-            let t0 = Instant::now();
-            let mut y = 0.0;
             for i in 0..N {
-                // alternate between two values, so that every get evaluates afresh
+                // alternate between two values, so that every call sequence is at a new point
                 let u = x + if i % 2 == 0 { 1e-9 } else { 0.0 };
                 ok(f.env, fmi::fmi2SetReal(f.c, &seed, 1, &u), "set");
                 ok(f.env, fmi::fmi2GetReal(f.c, &cont[0], 1, &mut y), "get");
+                for k in derivatives {
+                    let s = fmi::fmi2GetDirectionalDerivative(
+                        f.c,
+                        cont.as_ptr(),
+                        cont.len(),
+                        k,
+                        1,
+                        &1.0,
+                        dd.as_mut_ptr(),
+                    );
+                    ok(f.env, s, "directional derivative");
+                }
             }
-            b.push(t0.elapsed().as_nanos() as f64 / N as f64);
             std::hint::black_box((&dd, y));
+            t0.elapsed().as_nanos() as f64 / N as f64
+        };
+        for _ in 0..15 {
+            e.push(batch(&[], &mut f));
+            d.push(batch(&[seed], &mut f));
+            j.push(batch(&node_b, &mut f));
         }
-        let (ma, mb) = (median(&mut a), median(&mut b));
-        println!("{}, {ma:.0}, {mb:.0}, {:.2}", name_of(v), ma / mb);
+        let (me, md, mj) = (median(&mut e), median(&mut d), median(&mut j));
+        println!(
+            "{}, {me:.0}, {md:.0}, {mj:.0}, {}, {:.2}, {:.2}",
+            name_of(v),
+            node_b.len(),
+            (md - me) / me,
+            (mj - me) / node_b.len() as f64 / me
+        );
     }
 }
 
