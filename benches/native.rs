@@ -1237,7 +1237,9 @@ fn tangent_cost(only: Option<&str>) {
         let node_b: Vec<u32> = t
             .vars
             .iter()
-            .filter(|x| matches!(x.field, Field::Input { node: 1, idx } if idx < 13))
+            .filter(
+                |x| matches!(x.field, Field::Input { node: 1, idx } if (idx as usize) < PER_NODE),
+            )
             .map(|x| x.vr)
             .collect();
         let mut x = 0.0;
