@@ -329,6 +329,7 @@ fn evaluate_body<T: Scalar>(
     let mut stored = zero;
     let mut p_damp = zero;
     let mut p_stop = zero;
+    let rates = g.rates(ct, pose);
 
     for (k, role) in roles.iter().enumerate() {
         if *role == Role::Absent {
@@ -338,7 +339,7 @@ fn evaluate_body<T: Scalar>(
             continue;
         }
         let c = g.pos[k];
-        let v = g.grad[k].rate(pose);
+        let v = rates[k];
         o.cp[k] = c;
         o.cu[k] = c - st.c0[k];
         o.cv[k] = v;
@@ -408,16 +409,7 @@ fn evaluate_body<T: Scalar>(
         o.ctf[k] = o.cef[k] + o.cvf[k] + o.csf[k] + o.crf[k];
     }
     // node loads by virtual work: −Σ F_k ∇c_k; f_a = −f_b since ∂c/∂x_a = −∂c/∂x_b
-    (o.ma, o.fb, o.mb) = (Vec3::zeros(), Vec3::zeros(), Vec3::zeros());
-    for k in 0..6 {
-        let f = o.ctf[k];
-        if f.re() != 0.0 || f.eps() != 0.0 {
-            let gr = &g.grad[k];
-            o.ma -= gr.ta * f;
-            o.fb -= gr.xb * f;
-            o.mb -= gr.tb * f;
-        }
-    }
+    (o.ma, o.fb, o.mb) = g.loads(ct, pose, &o.ctf);
     o.fa = Vec3::zeros() - o.fb;
     next.power = [p_damp, p_stop];
     o.energy = Energy {

@@ -5,7 +5,10 @@
 //! Node motions are δx (translation, W) and δθ (small rotation vector, W) per node; the
 //! gradient `Grad` of a component holds ∂c/∂x_a, ∂c/∂θ_a, ∂c/∂x_b, ∂c/∂θ_b. Component
 //! velocities and node loads (virtual work) both follow from these gradients, so the loads
-//! are exactly in equilibrium and a purely elastic connector is exactly conservative.
+//! are exactly in equilibrium and a purely elastic connector is exactly conservative. The
+//! projection components keep their gradients factored (the triad, its rotation ∂ψ/∂θ_a and
+//! the angles' Jacobian K, `Geometry::rates` and `Geometry::loads`); `Geometry::gradient`
+//! writes any component's out.
 
 use super::math::{
     continue_branch, lift3, norm2, norm3, rotation_of, Mat3, Quat, Real, Scalar, SinCos, Vec3,
@@ -81,6 +84,7 @@ pub struct ConnectionType {
 
 impl ConnectionType {
     /// Role of every component slot (k = 1..6 at index k−1).
+    #[inline(always)]
     pub fn roles(&self) -> [Role; 6] {
         use Role::*;
         let mut r = [Absent; 6];
@@ -329,14 +333,28 @@ pub enum Singular {
 }
 
 /// Component positions, their gradients and the local directions.
+///
+/// The gradients of the projection components are kept factored, as they arise:
+/// - translations x_i = e_i·d (PROJECTION CARTESIAN, SLIDE-PLANE): ∂x_i/∂x_b = e_i,
+///   ∂x_i/∂θ_a = Aᵀ(e_i × d), ∂x_i/∂θ_b = Bᵀ(e_i × d), with A = ∂ψ/∂θ_a (`tri_a`) and
+///   B = I − A for the centred triad, B = 0 when the triad is node a's frame (A = I);
+/// - flexion–torsion angles (α1, α2, β): ∂/∂θ_b = K (`k`, rows), ∂/∂θ_a = −K.
+///
+/// So the rates and the node loads need no per-component gradient (`rates`, `loads`). The
+/// other components (RADIAL-THRUST's r and l, REVOLUTE's α, φ2, φ3) carry theirs in `grad`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Geometry<T: Scalar = Real> {
     /// Position c_k of every component (slot k−1); 0 for absent slots.
     pub pos: [T; 6],
-    /// Gradient of every component.
+    /// Gradient of the components that are not projections (see above); zero elsewhere.
     pub grad: [Grad<T>; 6],
     /// Local connector directions {e1, e2, e3} as columns (in W).
     pub triad: Mat3<T>,
+    /// A = ∂ψ/∂θ_a of the centred triad, its rotation for a rotation of node a (zero, and not
+    /// read, when the triad is node a's frame: there A = I).
+    pub tri_a: Mat3<T>,
+    /// K = ∂(α1, α2, β)/∂θ_b (rows) of FLEXION-TORSION (zero for other types).
+    pub k: Mat3<T>,
     /// Updated branches (committed by the caller only when the step is accepted).
     pub branches: Branches,
 }
@@ -347,6 +365,8 @@ impl Geometry {
         pos: [0.0; 6],
         grad: [Grad::ZERO; 6],
         triad: Mat3::new(1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0),
+        tri_a: Mat3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+        k: Mat3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
         branches: Branches {
             beta: 0.0,
             alpha: 0.0,
@@ -360,6 +380,8 @@ impl Geometry {
         pos: [0.0; 6],
         grad: [Grad::ZERO; 6],
         triad: Mat3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+        tri_a: Mat3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+        k: Mat3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
         branches: Branches {
             beta: 0.0,
             alpha: 0.0,
@@ -376,11 +398,143 @@ impl<T: Scalar> Geometry<T> {
             pos: [T::zero(); 6],
             grad: [Grad::zero(); 6],
             triad: Mat3::zeros(),
+            tri_a: Mat3::zeros(),
+            k: Mat3::zeros(),
             branches: Branches {
                 beta: 0.0,
                 alpha: 0.0,
                 e_r_local: Vec3::zeros(),
             },
+        }
+    }
+
+    /// Whether slots 0..3 are projections x_i = e_i·d on the triad.
+    #[inline(always)]
+    fn projected_translations(ct: ConnectionType) -> bool {
+        matches!(
+            ct.trans,
+            Translational::ProjectionCartesian | Translational::SlidePlane
+        )
+    }
+
+    /// The triad's angular velocity ψ̇ = A ω_a + B ω_b (B = I − A centred, 0 otherwise).
+    #[inline(always)]
+    fn triad_rate(&self, ct: ConnectionType, p: &Pose<T>) -> Vec3<T> {
+        if ct.centred() {
+            p.wb + self.tri_a * (p.wa - p.wb)
+        } else {
+            p.wa
+        }
+    }
+
+    /// Component rates ċ_k = ∇c_k · (v_a, ω_a, v_b, ω_b) for the twists of `p` (0 for absent
+    /// slots): translations e_i·(Δv + d × ψ̇), flexion–torsion angles K(ω_b − ω_a), the others
+    /// from their gradients.
+    #[inline(always)]
+    pub fn rates(&self, ct: ConnectionType, p: &Pose<T>) -> [T; 6] {
+        let mut v = [T::zero(); 6];
+        let roles = ct.roles();
+        if Self::projected_translations(ct) {
+            let u = p.dv + p.d.cross(&self.triad_rate(ct, p));
+            for (i, vi) in v.iter_mut().enumerate().take(3) {
+                *vi = self.triad.column(i).dot(&u);
+            }
+        }
+        if ct.rot == Rotational::ProjectionFlexionTorsion {
+            let w = self.k * (p.wb - p.wa);
+            v[3..].copy_from_slice(w.as_slice());
+        }
+        for k in 0..6 {
+            if roles[k] != Role::Absent && !Self::factored(ct, k) {
+                v[k] = self.grad[k].rate(p);
+            }
+        }
+        v
+    }
+
+    /// Whether component k's gradient is kept factored (a projection).
+    #[inline(always)]
+    fn factored(ct: ConnectionType, k: usize) -> bool {
+        if k < 3 {
+            Self::projected_translations(ct)
+        } else {
+            ct.rot == Rotational::ProjectionFlexionTorsion
+        }
+    }
+
+    /// Node loads by virtual work for component forces `f`: (m_a, f_b, m_b) = −Σ f_k (∂c_k/∂θ_a,
+    /// ∂c_k/∂x_b, ∂c_k/∂θ_b); f_a = −f_b. For the translations with F = Σ f_i e_i:
+    /// Σ f_i (e_i × d) = F × d, so the moments are Aᵀ(F × d) and Bᵀ(F × d); for the
+    /// flexion–torsion angles ±Kᵀ(f4, f5, f6).
+    #[inline(always)]
+    pub fn loads(
+        &self,
+        ct: ConnectionType,
+        p: &Pose<T>,
+        f: &[T; 6],
+    ) -> (Vec3<T>, Vec3<T>, Vec3<T>) {
+        let (mut ma, mut fb, mut mb) = (Vec3::zeros(), Vec3::zeros(), Vec3::zeros());
+        if Self::projected_translations(ct) {
+            let force = self.triad * Vec3::new(f[0], f[1], f[2]);
+            let fxd = force.cross(&p.d);
+            fb -= force;
+            if ct.centred() {
+                let on_a = self.tri_a.transpose() * fxd;
+                ma -= on_a;
+                mb -= fxd - on_a;
+            } else {
+                ma -= fxd;
+            }
+        }
+        if ct.rot == Rotational::ProjectionFlexionTorsion {
+            let m = self.k.transpose() * Vec3::new(f[3], f[4], f[5]);
+            ma += m;
+            mb -= m;
+        }
+        let roles = ct.roles();
+        for k in 0..6 {
+            let fk = f[k];
+            if roles[k] != Role::Absent
+                && !Self::factored(ct, k)
+                && (fk.re() != 0.0 || fk.eps() != 0.0)
+            {
+                let gr = &self.grad[k];
+                ma -= gr.ta * fk;
+                fb -= gr.xb * fk;
+                mb -= gr.tb * fk;
+            }
+        }
+        (ma, fb, mb)
+    }
+
+    /// The gradient of component k written out (d = x_b − x_a of the pose it was computed at):
+    /// what `rates` and `loads` use, for tests and inspection.
+    pub fn gradient(&self, ct: ConnectionType, k: usize, d: &Vec3<T>) -> Grad<T> {
+        if ct.roles()[k] == Role::Absent || !Self::factored(ct, k) {
+            return self.grad[k];
+        }
+        if k < 3 {
+            let e: Vec3<T> = self.triad.column(k).into();
+            let exd = e.cross(d);
+            let (ta, tb) = if ct.centred() {
+                let ta = self.tri_a.transpose() * exd;
+                (ta, exd - ta)
+            } else {
+                (exd, Vec3::zeros())
+            };
+            return Grad {
+                xa: -e,
+                ta,
+                xb: e,
+                tb,
+            };
+        }
+        let row: Vec3<T> = self.k.row(k - 3).transpose();
+        Grad {
+            xa: Vec3::zeros(),
+            ta: -row,
+            xb: Vec3::zeros(),
+            tb: row,
         }
     }
 }
@@ -532,13 +686,16 @@ pub fn geometry(
 }
 
 /// `geometry` at a pose, written into `g` (the per-step path, `connector::evaluate_into`: no
-/// copy of the result). Every field of `g` is overwritten; on an error its contents are
+/// copy of the result). Every field of `g` is overwritten (with zero where it does not apply
+/// to the connection type: `grad` of the factored projection components, `tri_a` when the
+/// triad is node a's frame, `k` without FLEXION-TORSION); on an error its contents are
 /// unspecified.
 ///
 /// A caller that starts from `Geometry::BLANK` (all bits zero) lets the compiler drop that
-/// zeroing where this function overwrites it: with the connection type a constant, every store
-/// below is to a known place (a `Result<Geometry, _>` returned by value was copied instead,
-/// 736 bytes, and so was a start from `Geometry::ZERO`, whose identity triad is not zero bits).
+/// zeroing where this function overwrites it or nothing reads it: with the connection type a
+/// constant, every store below is to a known place (a `Result<Geometry, _>` returned by value
+/// was copied instead, and so was a start from `Geometry::ZERO`, whose identity triad is not
+/// zero bits).
 #[inline(always)]
 pub fn geometry_into<T: Scalar>(
     ct: ConnectionType,
@@ -547,34 +704,32 @@ pub fn geometry_into<T: Scalar>(
     g: &mut Geometry<T>,
 ) -> Result<(), Singular> {
     let (ra, rb, d) = (pose.ra, pose.rb, pose.d);
-    // only the slots the connection type leaves absent are zeroed, the others are written below
+    // only the slots the connection type leaves absent are zeroed, the others are written
+    // below; the gradients are zeroed as a whole (those of absent and factored slots stay
+    // zero), which the compiler drops where nothing reads them
     for (k, role) in ct.roles().iter().enumerate() {
         if *role == Role::Absent {
             g.pos[k] = T::zero();
-            g.grad[k] = Grad::zero();
         }
     }
+    g.grad = [Grad::zero(); 6];
     g.triad = ra;
     g.branches = *prev;
 
-    // Local directions and, for the centred triad, the rotational components.
-    let mut tri_a = Mat3::identity(); // ∂ψ/∂θ_a; ∂ψ/∂θ_b = I − ∂ψ/∂θ_a, or 0 when not centred
-    let centred_triad = ct.centred();
-    if centred_triad {
+    // Local directions and, for the centred triad, the rotational components and
+    // A = ∂ψ/∂θ_a (∂ψ/∂θ_b = I − A: a rigid rotation of both nodes turns the centred triad with
+    // them); `tri_a` and `k` are zero where they do not apply (see `Geometry`)
+    g.tri_a = Mat3::zeros();
+    g.k = Mat3::zeros();
+    if ct.centred() {
         let cen = centred(&ra, &rb, prev.beta)?;
         g.triad = cen.triad;
         g.branches.beta = cen.angles.z.re();
-        tri_a = cen.a;
+        g.tri_a = cen.a;
         if ct.rot == Rotational::ProjectionFlexionTorsion {
+            g.k = cen.k;
             for i in 0..3 {
-                let row: Vec3<T> = cen.k.row(i).transpose();
                 g.pos[3 + i] = cen.angles[i];
-                g.grad[3 + i] = Grad {
-                    xa: Vec3::zeros(),
-                    ta: -row,
-                    xb: Vec3::zeros(),
-                    tb: row,
-                };
             }
         }
     }
@@ -582,24 +737,10 @@ pub fn geometry_into<T: Scalar>(
     match ct.trans {
         Translational::None => {}
         Translational::ProjectionCartesian | Translational::SlidePlane => {
-            // x_i = e_i·d; δx_i = e_i·(δx_b − δx_a) + δψ·(e_i × d)
+            // x_i = e_i·d; δx_i = e_i·(δx_b − δx_a) + δψ·(e_i × d) (gradient factored: see
+            // `Geometry`)
             for i in 0..3 {
-                let e: Vec3<T> = g.triad.column(i).into();
-                let exd = e.cross(&d);
-                let ta = tri_a.transpose() * exd;
-                g.pos[i] = e.dot(&d);
-                g.grad[i] = Grad {
-                    xa: -e,
-                    ta,
-                    xb: e,
-                    // ∂ψ/∂θ_a + ∂ψ/∂θ_b = I (a rigid rotation of both nodes turns the triad
-                    // with them), so the b part is what the a part leaves
-                    tb: if centred_triad {
-                        exd - ta
-                    } else {
-                        Vec3::zeros()
-                    },
-                };
+                g.pos[i] = g.triad.column(i).dot(&d);
             }
         }
         Translational::RadialThrust => {
@@ -745,6 +886,53 @@ mod tests {
         }
     }
 
+    /// The factored rates and loads against the gradients written out (which the test below
+    /// holds to central differences): ċ_k = ∇c_k·(v_a, ω_a, v_b, ω_b) and (m_a, f_b, m_b) =
+    /// −Σ f_k ∇c_k, to 1e-13 of the largest term (the sums run in a different order).
+    #[test]
+    fn factored_rates_and_loads_match_the_gradients() {
+        let mut rng = Lcg(11);
+        for ct in ALL {
+            for _ in 0..40 {
+                let (a, b) = (rng.node(1.2), rng.node(1.2));
+                let pose = Pose::of(&a, &b);
+                let Ok(g) = geometry(ct, &a, &b, &Branches::default()) else {
+                    continue;
+                };
+                let f: [Real; 6] = std::array::from_fn(|_| rng.next() * 100.0);
+                let rates = g.rates(ct, &pose);
+                let (ma, fb, mb) = g.loads(ct, &pose, &f);
+                let (mut ma_ref, mut fb_ref, mut mb_ref) =
+                    (Vec3::zeros(), Vec3::zeros(), Vec3::zeros());
+                let mut scale: Real = 1.0;
+                for k in 0..6 {
+                    let gr = g.gradient(ct, k, &pose.d);
+                    let rate_ref = gr.rate(&pose);
+                    assert!(
+                        (rates[k] - rate_ref).abs() <= 1e-13 * (1.0 + rate_ref.abs()),
+                        "{ct:?} rate {}: {} vs {rate_ref}",
+                        k + 1,
+                        rates[k]
+                    );
+                    if ct.roles()[k] == Role::Absent {
+                        assert_eq!(rates[k], 0.0);
+                        continue;
+                    }
+                    ma_ref -= gr.ta * f[k];
+                    fb_ref -= gr.xb * f[k];
+                    mb_ref -= gr.tb * f[k];
+                    scale = scale.max((gr.ta.norm() + gr.xb.norm() + gr.tb.norm()) * f[k].abs());
+                }
+                for (got, want) in [(ma, ma_ref), (fb, fb_ref), (mb, mb_ref)] {
+                    assert!(
+                        (got - want).norm() <= 1e-13 * scale,
+                        "{ct:?}: loads {got:?} vs {want:?}"
+                    );
+                }
+            }
+        }
+    }
+
     /// Central differences of every component along 12 node motions vs the analytic gradient.
     /// Step 1e-6 gives truncation ~1e-12·c''' and round-off ~1e-10; tolerance 1e-7 absolute.
     #[test]
@@ -793,7 +981,7 @@ mod tests {
                     let gm = geometry(ct, &am, &bm, &g.branches).expect("near a regular point");
                     for k in 0..6 {
                         let fd = (gp.pos[k] - gm.pos[k]) / (2.0 * h);
-                        let gr = &g.grad[k];
+                        let gr = g.gradient(ct, k, &(b.r - a.r));
                         let an = [gr.xa, gr.ta, gr.xb, gr.tb][dof / 3][dof % 3];
                         assert!(
                             (fd - an).abs() < 1e-7 * (1.0 + an.abs()),
