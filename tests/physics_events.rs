@@ -401,3 +401,60 @@ fn far_needs_every_function_beyond_eight_steps_of_change() {
         "a function without a value before"
     );
 }
+
+/// `values_on` marks every function that takes part (`crossed_on` and `far_on` compare only
+/// those; a marked one may still be NaN, e.g. a stick → slip function of an artificial state
+/// here, which both treat as not taking part): over stops on every slot of every variant free
+/// and engaged (damped stops add the stop-force functions), and PLANAR friction in every
+/// status, coupled and not, with the preloads zero, positive and negative.
+#[test]
+fn values_on_marks_exactly_the_functions_taking_part() {
+    let mut checked = 0;
+    let mut seen = 0u32;
+    for spec in connector_fmu::variables::VARIANTS {
+        let (v, ct) = (spec.variant, spec.connection);
+        for (coupling, f_int, m_int) in
+            [(0, 0.0, 0.0), (1, 5.0, 0.0), (0, -3.0, -2.0), (1, 0.0, 4.0)]
+        {
+            let mut p = puck(0.4, f_int, 1e5);
+            p.friction.m_int = m_int;
+            p.friction.coupling = coupling;
+            p.stop.c = 10.0;
+            p.stop.c_rot = 1.0;
+            p.stop_upper = [0.05; 6];
+            p.stop_lower = [-0.05; 6];
+            let a = node(Vec3::zeros(), Vec3::zeros());
+            let b = node(Vec3::new(0.01, 0.02, 0.03), Vec3::new(0.1, 0.2, 0.3));
+            let Ok(st0) = initial_state(ct, &p, &a, &b) else {
+                continue;
+            };
+            let (o, _) = evaluate(ct, &p, &st0, &a, &b, Eval::Read).expect("regular");
+            for status in [-1, 0, 1] {
+                for fs in [Status::Stick, Status::Slip, Status::NoNormal] {
+                    let mut st = st0;
+                    st.stop_status = [status; 6];
+                    st.friction.status = fs;
+                    st.friction.status_r1 = fs;
+                    let t = events::values_on(ct, &p, &st, &o);
+                    let written = (0..N_EVENTS)
+                        .filter(|&i| !t.v[i].is_nan())
+                        .fold(0u32, |m, i| m | 1 << i);
+                    assert_eq!(
+                        written & !t.on,
+                        0,
+                        "{v:?} {status} {fs:?} coupling {coupling}"
+                    );
+                    assert_eq!(
+                        t.v.map(f64::to_bits),
+                        events::values(ct, &p, &st, &o).map(f64::to_bits)
+                    );
+                    seen |= written;
+                    checked += 1;
+                }
+            }
+        }
+    }
+    assert!(checked > 100, "{checked} cases");
+    // every function took part somewhere
+    assert_eq!(seen, (1 << N_EVENTS) - 1, "functions seen {seen:025b}");
+}

@@ -110,7 +110,7 @@ impl ModelInstance {
             (self.cache.spare(), &mut next),
         ) {
             Ok((a1, b1, met)) => {
-                let far = start.map(|(start, _)| events::far(&met.end, start));
+                let far = start.map(|(start, _)| events::far_on(&met.end, met.end_on, start));
                 if self.s.params.extrapolation == Extrapolation::Quadratic {
                     // the accelerations of the next step come from this step's start, also
                     // across an event (a body's acceleration is continuous where a friction

@@ -55,9 +55,17 @@ pub const FAR: Real = 8.0;
 /// jump only through the step after): then the next step may start from `end`'s sides (see
 /// `FAR`); otherwise it needs the exact values.
 pub fn far(end: &Values, before: &Values) -> bool {
-    end.iter()
-        .zip(before)
-        .all(|(&e, &b)| e.is_nan() || (e != 0.0 && e.abs() > FAR * (e - b).abs()))
+    far_on(end, (1 << N_EVENTS) - 1, before)
+}
+
+/// `far` among the functions in `on`, which holds every function taking part in `end` (as
+/// `values_on` gives it): the others are far by definition.
+#[inline]
+pub fn far_on(end: &Values, on: u32, before: &Values) -> bool {
+    bits(on).all(|i| {
+        let (e, b) = (end[i], before[i]);
+        e.is_nan() || (e != 0.0 && e.abs() > FAR * (e - b).abs())
+    })
 }
 
 /// Event times are located to this fraction of the communication step (the spec asks for
@@ -91,26 +99,58 @@ pub fn side(i: usize, x: Real) -> bool {
 /// The event functions at a point of a substep that starts from `st`, from the outputs `o`
 /// evaluated there.
 pub fn values(ct: ConnectionType, p: &Params, st: &State, o: &Outputs) -> Values {
-    let mut v = [Real::NAN; N_EVENTS];
-    let roles = ct.roles();
-    for k in 0..6 {
-        if roles[k] != Role::Available {
+    values_on(ct, p, st, o).v
+}
+
+/// Event function values with the set of those taking part (bit i: function i), which the
+/// step's comparisons go through instead of every function (`crossed_on`, `far_on`).
+#[derive(Clone, Copy, Debug)]
+pub struct Taking {
+    /// The values (NaN: not taking part).
+    pub v: Values,
+    /// Bit i set: function i takes part (its value is written; a NaN there, which the
+    /// comparisons treat as not taking part, is possible only where a value is not finite).
+    pub on: u32,
+}
+
+impl Taking {
+    #[inline(always)]
+    fn put(&mut self, i: usize, x: Real) {
+        self.v[i] = x;
+        self.on |= 1 << i;
+    }
+}
+
+/// `values` with the set of the functions taking part.
+pub fn values_on(ct: ConnectionType, p: &Params, st: &State, o: &Outputs) -> Taking {
+    let mut v = Taking {
+        v: [Real::NAN; N_EVENTS],
+        on: 0,
+    };
+    for (k, role) in ct.roles().into_iter().enumerate() {
+        if role != Role::Available {
             continue;
         }
         if p.stop_upper[k].is_finite() {
-            v[STOP_UPPER + k] = o.cp[k] - p.stop_upper[k];
+            v.put(STOP_UPPER + k, o.cp[k] - p.stop_upper[k]);
         }
         if p.stop_lower[k].is_finite() {
-            v[STOP_LOWER + k] = p.stop_lower[k] - o.cp[k];
+            v.put(STOP_LOWER + k, p.stop_lower[k] - o.cp[k]);
         }
         // an engaged damped stop: its unclipped force, on the side it is engaged
         let (ks, cs) = p.stop.for_slot(k);
         if cs > 0.0 {
-            v[STOP_FORCE + k] = match st.stop_status[k] {
-                1 => ks * (o.cp[k] - p.stop_upper[k]) + cs * o.cv[k],
-                -1 => ks * (p.stop_lower[k] - o.cp[k]) - cs * o.cv[k],
-                _ => Real::NAN,
-            };
+            match st.stop_status[k] {
+                1 => v.put(
+                    STOP_FORCE + k,
+                    ks * (o.cp[k] - p.stop_upper[k]) + cs * o.cv[k],
+                ),
+                -1 => v.put(
+                    STOP_FORCE + k,
+                    ks * (p.stop_lower[k] - o.cp[k]) - cs * o.cv[k],
+                ),
+                _ => {}
+            }
         }
     }
     if ct.rot != Rotational::Revolute || !p.friction.enabled() {
@@ -128,9 +168,9 @@ pub fn values(ct: ConnectionType, p: &Params, st: &State, o: &Outputs) -> Values
         |e: usize| (e == 0 || !coupled) && matches!(statuses[e], Status::Stick | Status::NoNormal);
     if sticks(0) || sticks(1) {
         let phi = stick_slip_function(f, fs, pos, rate, (o.friction.cnf, o.friction.cnm1));
-        for e in 0..2 {
+        for (e, phi_e) in phi.into_iter().enumerate() {
             if sticks(e) {
-                v[STICK_SLIP + e] = phi[e];
+                v.put(STICK_SLIP + e, phi_e);
             }
         }
     }
@@ -138,15 +178,15 @@ pub fn values(ct: ConnectionType, p: &Params, st: &State, o: &Outputs) -> Values
     let [f2, f3, m1] = fs.force;
     let (slide, spin) = (rate[0] * f2 + rate[1] * f3, rate[2] * m1);
     if statuses[0] == Status::Slip {
-        v[SLIP_STICK] = if coupled { slide + spin } else { slide };
+        v.put(SLIP_STICK, if coupled { slide + spin } else { slide });
     }
     if statuses[1] == Status::Slip && !coupled {
-        v[SLIP_STICK + 1] = spin;
+        v.put(SLIP_STICK + 1, spin);
     }
     // the normal loads pass through zero: through CRF1 when nothing else loads them (no
     // preload; bending only adds), through F_C + F_int or M_R1 + M_int with a negative preload
     if f.f_int == 0.0 || f.m_int == 0.0 {
-        v[NORMAL_AXIAL] = o.crf[0];
+        v.put(NORMAL_AXIAL, o.crf[0]);
     }
     if f.f_int < 0.0 || f.m_int < 0.0 {
         let unloaded = FrictionParams {
@@ -156,10 +196,10 @@ pub fn values(ct: ConnectionType, p: &Params, st: &State, o: &Outputs) -> Values
         };
         let (f_c, m_r1) = normal_loads(&unloaded, o.crf[0], o.crf[4], o.crf[5]);
         if f.f_int < 0.0 {
-            v[NORMAL_SLIDE] = f_c + f.f_int;
+            v.put(NORMAL_SLIDE, f_c + f.f_int);
         }
         if f.m_int < 0.0 {
-            v[NORMAL_SPIN] = m_r1 + f.m_int;
+            v.put(NORMAL_SPIN, m_r1 + f.m_int);
         }
     }
     v
@@ -170,8 +210,15 @@ pub fn values(ct: ConnectionType, p: &Params, st: &State, o: &Outputs) -> Values
 /// zero meets its event at the start, not inside the substep).
 #[inline]
 pub fn crossed(a: &Values, b: &Values) -> u32 {
+    crossed_on(a, b, (1 << N_EVENTS) - 1)
+}
+
+/// `crossed` among the functions in `on`, which holds every function taking part in `b` (as
+/// `values_on` gives it): the others cannot cross, so only these are compared.
+#[inline]
+pub fn crossed_on(a: &Values, b: &Values, on: u32) -> u32 {
     let mut mask = 0;
-    for i in 0..N_EVENTS {
+    for i in bits(on) {
         let (x, y) = (a[i], b[i]);
         if x != 0.0 && !x.is_nan() && !y.is_nan() && side(i, x) != side(i, y) {
             mask |= 1 << i;
@@ -180,10 +227,17 @@ pub fn crossed(a: &Values, b: &Values) -> u32 {
     mask
 }
 
-/// The indices of the bits set in `mask`.
+/// The indices of the bits set in `mask`, in increasing order.
 #[inline]
 pub fn bits(mask: u32) -> impl Iterator<Item = usize> {
-    (0..N_EVENTS).filter(move |i| mask & (1 << i) != 0)
+    let mut rest = mask & ((1 << N_EVENTS) - 1);
+    std::iter::from_fn(move || {
+        (rest != 0).then(|| {
+            let i = rest.trailing_zeros() as usize;
+            rest &= rest - 1;
+            i
+        })
+    })
 }
 
 /// Whether `values` from the states `a` and `b` are the same for the same outputs: the

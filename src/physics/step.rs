@@ -3,7 +3,7 @@
 //! follows in internal substeps, and the dissipated energies are integrated.
 
 use super::connector::{evaluate_into, Outputs, Params, State};
-use super::events::{self, crossed, locate, values, Values, EVENT_TOL};
+use super::events::{self, crossed_on, locate, values, values_on, Values, EVENT_TOL};
 use super::friction::Eval;
 use super::kinematics::{ConnectionType, Node, Shafts, Singular, ALPHA_MAX_GAP};
 use super::math::{quat_exp, Real, Vec3};
@@ -251,6 +251,8 @@ pub struct Met {
     pub stopped: bool,
     /// The event functions where the step ended (NaN: not taking part; all NaN untracked).
     pub end: Values,
+    /// Those taking part there (bit i: function i; `events::values_on`).
+    pub end_on: u32,
 }
 
 /// `advance` writing the outputs and the state at the step's end in place (the per-step path:
@@ -302,9 +304,12 @@ pub fn advance_into(
         count: 0,
         stopped: false,
         end: [Real::NAN; events::N_EVENTS],
+        end_on: 0,
     };
     // the event functions at the start of the substep; whether the first event is located
     let mut at_start = track.map(|t| *t.start);
+    // the functions taking part at the start of the substep, once a substep has set them
+    let mut start_on = 0;
     let mut located = false;
     // the state the substep starts from: `st`, then a copy of the last substep's end
     let mut prev: Option<State> = None;
@@ -350,15 +355,15 @@ pub fn advance_into(
         let s: &State = if j == 1 { st } else { prev.insert(*next) };
         substep(s, (tau, dt), (&a, &b), o, next)?;
         if let (Some(start), Some(track)) = (at_start.as_mut(), track) {
-            let end = values(ct, p, s, o);
-            let mut crossed = crossed(start, &end);
+            let end = values_on(ct, p, s, o);
+            let mut crossed = crossed_on(start, &end.v, end.on);
             if j == 1 && !track.exact && crossed != 0 {
                 // the assumed sides at τ = 0 say a function crossed: take the exact values
                 let mut at0 = (Outputs::default(), State::default());
                 evaluate_into(ct, p, st, a0, b0, Eval::Read, (&mut at0.0, &mut at0.1))
                     .map_err(|e| StepError::Singular(e, 0.0))?;
                 *start = values(ct, p, st, &at0.0);
-                crossed = events::crossed(start, &end);
+                crossed = crossed_on(start, &end.v, end.on);
             }
             if crossed != 0 && !located {
                 // the first substep with events: locate each, the earliest is the first event;
@@ -374,7 +379,7 @@ pub fn advance_into(
                         substep(s, part, (&a, &b), &mut scratch.0, &mut scratch.1)?;
                         Ok::<_, StepError>(values(ct, p, s, &scratch.0)[i])
                     };
-                    let root = locate(i, (tau0, start[i]), (tau, end[i]), EVENT_TOL * h, at)?;
+                    let root = locate(i, (tau0, start[i]), (tau, end.v[i]), EVENT_TOL * h, at)?;
                     if root < track.min_tau {
                         met_at_start |= 1 << i;
                     } else {
@@ -392,25 +397,28 @@ pub fn advance_into(
                         substep(s, (first, first - tau0), (&a, &b), o, next)?;
                     }
                     // the functions crossed at the event (not those met at the start)
-                    let at_event = values(ct, p, s, o);
-                    met.count = (events::crossed(start, &at_event) & !met_at_start).count_ones();
+                    let at_event = values_on(ct, p, s, o);
+                    met.count =
+                        (crossed_on(start, &at_event.v, at_event.on) & !met_at_start).count_ones();
                     met.stopped = true;
-                    met.end = values(ct, p, next, o);
+                    let there = values_on(ct, p, next, o);
+                    (met.end, met.end_on) = (there.v, there.on);
                     return Ok((a, b, met));
                 }
             }
             met.count += crossed.count_ones();
             // the next substep's start: these values, with the activity of the state it
             // starts from (the same unless a status changed)
-            *start = if events::same_values(s, next) {
+            let next_start = if events::same_values(s, next) {
                 end
             } else {
-                values(ct, p, next, o)
+                values_on(ct, p, next, o)
             };
+            (*start, start_on) = (next_start.v, next_start.on);
         }
         if j == n {
             if let Some(end) = at_start {
-                met.end = end;
+                (met.end, met.end_on) = (end, start_on);
             }
             return Ok((a, b, met));
         }
