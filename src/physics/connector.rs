@@ -326,61 +326,34 @@ fn evaluate_body<T: Scalar>(
     // Every output is written below, from zero where it accumulates (writing the struct
     // as a whole first would cost a memset of all of it on every evaluation).
     let zero = T::zero();
-    let mut stored = zero;
-    let mut p_damp = zero;
-    let mut p_stop = zero;
     let rates = g.rates(ct, pose);
 
-    for (k, role) in roles.iter().enumerate() {
-        if *role == Role::Absent {
-            next.stop_status[k] = st.stop_status[k];
-            (o.cp[k], o.cu[k], o.cv[k]) = (zero, zero, zero);
-            (o.cef[k], o.cvf[k], o.crf[k], o.cslst[k]) = (zero, zero, zero, 0);
-            continue;
-        }
-        let c = g.pos[k];
-        let v = rates[k];
-        o.cp[k] = c;
-        o.cu[k] = c - st.c0[k];
-        o.cv[k] = v;
-        match role {
-            Role::Constrained => {
-                next.stop_status[k] = st.stop_status[k];
-                // penalty on the constraint: SLIDE-PLANE x = x0, REVOLUTE φ2 = φ3 = 0
-                let target = if k == 0 { st.c0[0] } else { zero };
-                let (kp, cp) = p.constraint.for_slot(k);
-                let gap = c - target;
-                (o.cef[k], o.cvf[k], o.cslst[k]) = (zero, zero, 0);
-                o.crf[k] = gap * kp + v * cp;
-                stored += gap * (0.5 * kp) * gap;
-                p_damp += v * cp * v;
-            }
-            Role::Available => {
-                let reference = if p.ref_given[k] {
-                    T::cst(p.ref_value[k])
-                } else {
-                    st.c0[k]
-                };
-                let u_mat = c - reference;
-                o.cef[k] = u_mat * p.k[k];
-                o.cvf[k] = v * p.c[k];
-                stored += u_mat * (0.5 * p.k[k]) * u_mat;
-                p_damp += v * p.c[k] * v;
-                // stops act on positions, never pull
-                let (ks, cs) = p.stop.for_slot(k);
-                let (force, status, energy, power) =
-                    stop_force(c, v, p.stop_lower[k], p.stop_upper[k], ks, cs);
-                // 0 + force, as when the reaction accumulated from zero: a stop force of −0
-                // reads +0
-                o.crf[k] = force + 0.0;
-                o.cslst[k] = status as i32;
-                next.stop_status[k] = status;
-                stored += energy;
-                p_stop += power;
-            }
-            Role::Absent => {}
-        }
+    // every slot's component, each call with its slot and role constant (a loop over the
+    // slots was not unrolled: every slot paid the dispatch on its role and the indexing)
+    let mut sums = Sums {
+        stored: zero,
+        damping: zero,
+        stops: zero,
+    };
+    macro_rules! slots {
+        ($($k:literal),*) => {
+            $(component(
+                $k,
+                roles[$k],
+                (g.pos[$k], rates[$k]),
+                p,
+                st,
+                (&mut *o, &mut *next),
+                &mut sums,
+            );)*
+        };
     }
+    slots!(0, 1, 2, 3, 4, 5);
+    let Sums {
+        mut stored,
+        damping: p_damp,
+        stops: p_stop,
+    } = sums;
 
     // PLANAR friction: normal force and moment from the constraint reactions f1, m2, m3
     // (F_NC and M_NR1 are reported even when μ = 0 turns the friction force off)
@@ -418,6 +391,72 @@ fn evaluate_body<T: Scalar>(
         ..st.dissipated
     };
     Ok(())
+}
+
+/// What the components add up: stored energy, damping and stop dissipation powers.
+struct Sums<T> {
+    stored: T,
+    damping: T,
+    stops: T,
+}
+
+/// The outputs of component slot k (role `role`) at position `c` with rate `v`, its stop
+/// status in `next`, and its energy and powers added to `sums` (`evaluate_body`).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn component<T: Scalar>(
+    k: usize,
+    role: Role,
+    (c, v): (T, T),
+    p: &Params,
+    st: &State<T>,
+    (o, next): (&mut Outputs<T>, &mut State<T>),
+    sums: &mut Sums<T>,
+) {
+    let zero = T::zero();
+    match role {
+        Role::Absent => {
+            next.stop_status[k] = st.stop_status[k];
+            (o.cp[k], o.cu[k], o.cv[k]) = (zero, zero, zero);
+            (o.cef[k], o.cvf[k], o.crf[k], o.cslst[k]) = (zero, zero, zero, 0);
+        }
+        Role::Constrained => {
+            (o.cp[k], o.cu[k], o.cv[k]) = (c, c - st.c0[k], v);
+            next.stop_status[k] = st.stop_status[k];
+            // penalty on the constraint: SLIDE-PLANE x = x0, REVOLUTE φ2 = φ3 = 0
+            let target = if k == 0 { st.c0[0] } else { zero };
+            let (kp, cp) = p.constraint.for_slot(k);
+            let gap = c - target;
+            (o.cef[k], o.cvf[k], o.cslst[k]) = (zero, zero, 0);
+            o.crf[k] = gap * kp + v * cp;
+            sums.stored += gap * (0.5 * kp) * gap;
+            sums.damping += v * cp * v;
+        }
+        Role::Available => {
+            (o.cp[k], o.cu[k], o.cv[k]) = (c, c - st.c0[k], v);
+            let reference = if p.ref_given[k] {
+                T::cst(p.ref_value[k])
+            } else {
+                st.c0[k]
+            };
+            let u_mat = c - reference;
+            o.cef[k] = u_mat * p.k[k];
+            o.cvf[k] = v * p.c[k];
+            sums.stored += u_mat * (0.5 * p.k[k]) * u_mat;
+            sums.damping += v * p.c[k] * v;
+            // stops act on positions, never pull
+            let (ks, cs) = p.stop.for_slot(k);
+            let (force, status, energy, power) =
+                stop_force(c, v, p.stop_lower[k], p.stop_upper[k], ks, cs);
+            // 0 + force, as when the reaction accumulated from zero: a stop force of −0
+            // reads +0
+            o.crf[k] = force + 0.0;
+            o.cslst[k] = status as i32;
+            next.stop_status[k] = status;
+            sums.stored += energy;
+            sums.stops += power;
+        }
+    }
 }
 
 /// One-sided stop penalty on position `c` with rate `v`: (force, status, energy, power).
