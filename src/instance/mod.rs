@@ -9,6 +9,7 @@
 
 mod cache;
 mod derivatives;
+mod memo;
 mod stepping;
 mod values;
 
@@ -23,6 +24,7 @@ use crate::physics::init::{initial_state, initial_state_at};
 use crate::physics::kinematics::{ConnectionType, Node, NodeDual, Pose, Singular};
 use crate::physics::math::{Dual, Real};
 use cache::OutputCache;
+use memo::VrMemo;
 
 #[cfg(test)]
 mod tangent_tests;
@@ -139,6 +141,10 @@ pub struct ModelInstance {
     early_return: bool,
     /// Outputs at the current inputs and committed state.
     cache: OutputCache,
+    /// The last VR list of fmi2SetReal's per-step path, resolved to input slots.
+    set_memo: VrMemo,
+    /// The last VR list of fmi2GetReal's per-step path, resolved to node-load slots.
+    get_memo: VrMemo,
 }
 
 impl ModelInstance {
@@ -157,6 +163,8 @@ impl ModelInstance {
             s: Snapshot::start(table),
             early_return: false,
             cache: OutputCache::new(),
+            set_memo: VrMemo::default(),
+            get_memo: VrMemo::default(),
         }
     }
 

@@ -122,12 +122,25 @@ impl ModelInstance {
         // the first value that is not for this path puts the inputs back as they were and
         // hands the whole call to the general batch, which names the culprit (all or nothing).
         self.allowed(Call::Set)?;
+        // The list of the last call again (every step's case): its slots are known, so the
+        // values are checked first and then written, without a look-up or a copy to put back.
+        if let Some(slots) = self.set_memo.slots_of(vrs) {
+            // without early exit, which the compiler vectorises
+            if values.iter().fold(true, |all, x| all & x.is_finite()) {
+                let flat = self.s.inputs.as_flattened_mut();
+                for (&j, &x) in slots.iter().zip(values) {
+                    flat[j as usize] = x;
+                }
+                self.cache.clear();
+                return Ok(());
+            }
+        }
         let index = &*self.real.input_index;
+        let slot = |vr: u32| index.get(vr as usize).copied().unwrap_or(NO_INDEX);
         let before = self.s.inputs;
         let flat = self.s.inputs.as_flattened_mut();
         for (&vr, &x) in vrs.iter().zip(values) {
-            let j = index.get(vr as usize).copied().unwrap_or(NO_INDEX);
-            match flat.get_mut(j as usize) {
+            match flat.get_mut(slot(vr) as usize) {
                 Some(u) if x.is_finite() => *u = x,
                 _ => {
                     self.s.inputs = before;
@@ -135,6 +148,7 @@ impl ModelInstance {
                 }
             }
         }
+        self.set_memo.remember(vrs, vrs.iter().map(|&vr| slot(vr)));
         // Outputs are evaluated again when read: a function of the inputs and the committed
         // state, so an unchanged value reads back the same bits.
         self.cache.clear();
@@ -214,14 +228,22 @@ impl ModelInstance {
         self.allowed(Call::Get)?;
         let index = &*self.real.load_index;
         let load = |vr: u32| index.get(vr as usize).copied().unwrap_or(NO_INDEX);
+        // the list of the last call again (every step's case): its slots are known
+        if self.get_memo.slots_of(vrs).is_some() {
+            let loads = node_loads(self.outputs()?);
+            for (&l, slot) in self.get_memo.slots().iter().zip(out.iter_mut()) {
+                *slot = loads[l as usize];
+            }
+            return Ok(());
+        }
         if vrs.iter().all(|&vr| load(vr) != NO_INDEX) {
-            let o = self.outputs()?;
-            let loads = node_loads(o);
+            let loads = node_loads(self.outputs()?);
             for (&vr, slot) in vrs.iter().zip(out.iter_mut()) {
                 if let Some(&l) = loads.get(load(vr) as usize) {
                     *slot = l;
                 }
             }
+            self.get_memo.remember(vrs, vrs.iter().map(|&vr| load(vr)));
             return Ok(());
         }
         let mut any_output = false;

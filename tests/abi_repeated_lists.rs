@@ -1,0 +1,143 @@
+//! fmi2SetReal and fmi2GetReal remember the last list of node inputs (node loads) they were
+//! called with and serve the same list again without looking each VR up (src/instance/memo.rs).
+//! A repeated list must behave exactly as a first one: all or nothing with a bad value (one
+//! message naming it, nothing changed), every value where its own VR says, and reads that
+//! follow the inputs and the steps.
+
+mod common;
+use common::{assert_error_logged, Fmu};
+use connector_fmu::fmi2::exports::{fmi2GetReal, fmi2SetReal};
+use connector_fmu::fmi2::types::fmi2Status;
+use connector_fmu::variables::{table, Causality, Start, Variant, VARIANTS};
+
+/// The variant's node inputs (every Real input), in table order.
+fn node_inputs(v: Variant) -> Vec<(u32, &'static str)> {
+    table(v)
+        .vars
+        .iter()
+        .filter(|x| x.causality == Causality::Input && matches!(x.start, Start::Real(_)))
+        .map(|x| (x.vr, x.name.as_str()))
+        .collect()
+}
+
+/// Values for the inputs: unit quaternions (w first) where the name says q, small numbers
+/// elsewhere, moved by `shift`.
+fn values_for(inputs: &[(u32, &str)], shift: f64) -> Vec<f64> {
+    inputs
+        .iter()
+        .enumerate()
+        .map(
+            |(i, (_, name))| match name.rsplit_once('.').map(|(_, f)| f) {
+                Some("q[1]") => 1.0,
+                Some(f) if f.starts_with("q[") => 0.0,
+                _ => 0.01 * (i as f64 + 1.0) + shift,
+            },
+        )
+        .collect()
+}
+
+fn bits(x: &[f64]) -> Vec<u64> {
+    x.iter().map(|x| x.to_bits()).collect()
+}
+
+fn set(f: &Fmu, vrs: &[u32], x: &[f64]) -> fmi2Status {
+    fmi2SetReal(f.c, vrs.as_ptr(), vrs.len(), x.as_ptr())
+}
+
+#[test]
+fn a_repeated_input_list_is_all_or_nothing_and_lands_where_each_vr_says() {
+    for spec in VARIANTS {
+        let v = spec.variant;
+        let f = Fmu::new(v);
+        f.init();
+        let inputs = node_inputs(v);
+        let vrs: Vec<u32> = inputs.iter().map(|(vr, _)| *vr).collect();
+        // the first call resolves the list, the next ones repeat it
+        for shift in [0.0, 0.5, 0.25] {
+            let x = values_for(&inputs, shift);
+            assert_eq!(set(&f, &vrs, &x), fmi2Status::OK, "{v:?}: {:?}", f.log());
+            for ((_, name), want) in inputs.iter().zip(&x) {
+                assert_eq!(f.get_real(name).to_bits(), want.to_bits(), "{v:?} {name}");
+            }
+        }
+        let kept = f.get_reals(&vrs);
+        // a bad value in the repeated list: refused, named, nothing set (also the values
+        // before it in the list)
+        for (bad_at, bad) in [(inputs.len() - 1, f64::NAN), (2, f64::INFINITY)] {
+            let mut x = values_for(&inputs, 0.75);
+            x[bad_at] = bad;
+            let before = f.log_len();
+            let status = set(&f, &vrs, &x);
+            assert_error_logged(&f, before, status, "fmi2SetReal");
+            let message = &f.log()[before].message;
+            assert!(message.contains(inputs[bad_at].1), "{v:?}: {message}");
+            assert_eq!(
+                f.get_reals(&vrs),
+                kept,
+                "{v:?}: a refused list changed inputs"
+            );
+        }
+        // the list in another order is another list: it lands where its own VRs say
+        let (rev_vrs, mut rev_x): (Vec<u32>, Vec<f64>) = vrs
+            .iter()
+            .rev()
+            .zip(values_for(&inputs, 0.125).iter().rev())
+            .map(|(&vr, &x)| (vr, x))
+            .unzip();
+        assert_eq!(set(&f, &rev_vrs, &rev_x), fmi2Status::OK);
+        assert_eq!(f.get_reals(&rev_vrs), rev_x, "{v:?} reversed");
+        rev_x.reverse();
+        assert_eq!(
+            f.get_reals(&vrs),
+            rev_x,
+            "{v:?} reversed, read in table order"
+        );
+    }
+}
+
+#[test]
+fn a_repeated_load_list_reads_the_current_loads() {
+    for spec in VARIANTS {
+        let v = spec.variant;
+        let f = Fmu::new(v);
+        for k in 1..=6 {
+            f.set_real_if(&format!("elasticity.k{k}"), 100.0 * k as f64);
+            f.set_real_if(&format!("damping.c{k}"), 1.0);
+        }
+        f.init();
+        let loads: Vec<u32> = ["a.f", "a.m", "b.f", "b.m"]
+            .iter()
+            .flat_map(|n| (1..=3).map(move |i| format!("{n}[{i}]")))
+            .filter(|n| f.has(n))
+            .map(|n| f.vr(&n))
+            .collect();
+        assert!(!loads.is_empty(), "{v:?} has node loads");
+        let inputs = node_inputs(v);
+        let vrs: Vec<u32> = inputs.iter().map(|(vr, _)| *vr).collect();
+        let mut t = 0.0;
+        let mut changed = 0;
+        for shift in [0.0, 0.01, 0.02, 0.03] {
+            assert_eq!(set(&f, &vrs, &values_for(&inputs, shift)), fmi2Status::OK);
+            assert_eq!(f.step(t, 1e-3), fmi2Status::OK, "{v:?}: {:?}", f.log());
+            t += 1e-3;
+            // the list twice in a row (the second call repeats the remembered list), then
+            // one VR per call (each its own list)
+            let mut first = vec![f64::NAN; loads.len()];
+            let s = fmi2GetReal(f.c, loads.as_ptr(), loads.len(), first.as_mut_ptr());
+            assert_eq!(s, fmi2Status::OK);
+            let mut got = vec![f64::NAN; loads.len()];
+            let s = fmi2GetReal(f.c, loads.as_ptr(), loads.len(), got.as_mut_ptr());
+            assert_eq!(s, fmi2Status::OK);
+            assert_eq!(bits(&got), bits(&first), "{v:?} repeated at t = {t}");
+            for (&vr, &x) in loads.iter().zip(&got) {
+                let mut one = f64::NAN;
+                assert_eq!(fmi2GetReal(f.c, &vr, 1, &mut one), fmi2Status::OK);
+                assert_eq!(x.to_bits(), one.to_bits(), "{v:?} VR {vr} at t = {t}");
+            }
+            if got.iter().any(|&x| x != 0.0) {
+                changed += 1;
+            }
+        }
+        assert!(changed >= 3, "{v:?}: the loads should follow the inputs");
+    }
+}
