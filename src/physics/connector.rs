@@ -463,7 +463,7 @@ fn component<T: Scalar>(
 ///
 /// The force never pulls: it is clipped at zero when the damper would make it adhesive
 /// (docs/physics.md, "Stops"). `power` is the dissipation rate (F − k·p)·ṗ ≥ 0, where p is the penetration.
-#[inline]
+#[inline(always)]
 fn stop_force<T: Scalar>(c: T, v: T, lower: Real, upper: Real, k: Real, d: Real) -> (T, i8, T, T) {
     let zero = T::zero();
     if c.re() > upper {

@@ -62,10 +62,13 @@ pub fn far(end: &Values, before: &Values) -> bool {
 /// `values_on` gives it): the others are far by definition.
 #[inline]
 pub fn far_on(end: &Values, on: u32, before: &Values) -> bool {
-    bits(on).all(|i| {
+    for i in bits(on) {
         let (e, b) = (end[i], before[i]);
-        e.is_nan() || (e != 0.0 && e.abs() > FAR * (e - b).abs())
-    })
+        if !(e.is_nan() || (e != 0.0 && e.abs() > FAR * (e - b).abs())) {
+            return false;
+        }
+    }
+    true
 }
 
 /// Event times are located to this fraction of the communication step (the spec asks for

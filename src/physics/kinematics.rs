@@ -346,8 +346,9 @@ pub enum Singular {
 pub struct Geometry<T: Scalar = Real> {
     /// Position c_k of every component (slot k−1); 0 for absent slots.
     pub pos: [T; 6],
-    /// Gradient of the components that are not projections (see above); zero elsewhere.
-    pub grad: [Grad<T>; 6],
+    /// Gradient of the components that are not projections (see above; zero at the other
+    /// slots), None when every component is a projection or absent.
+    pub grad: Option<[Grad<T>; 6]>,
     /// Local connector directions {e1, e2, e3} as columns (in W).
     pub triad: Mat3<T>,
     /// A = ∂ψ/∂θ_a of the centred triad, its rotation for a rotation of node a (zero, and not
@@ -363,7 +364,7 @@ impl Geometry {
     /// All zero, frames the identity: a value to evaluate into (`geometry_into`).
     pub const ZERO: Geometry = Geometry {
         pos: [0.0; 6],
-        grad: [Grad::ZERO; 6],
+        grad: None,
         triad: Mat3::new(1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0),
         tri_a: Mat3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
         k: Mat3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
@@ -378,7 +379,7 @@ impl Geometry {
     /// value to evaluate into with `geometry_into`, which overwrites every field.
     pub const BLANK: Geometry = Geometry {
         pos: [0.0; 6],
-        grad: [Grad::ZERO; 6],
+        grad: None,
         triad: Mat3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
         tri_a: Mat3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
         k: Mat3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
@@ -396,7 +397,7 @@ impl<T: Scalar> Geometry<T> {
     pub fn blank() -> Geometry<T> {
         Geometry {
             pos: [T::zero(); 6],
-            grad: [Grad::zero(); 6],
+            grad: None,
             triad: Mat3::zeros(),
             tri_a: Mat3::zeros(),
             k: Mat3::zeros(),
@@ -444,9 +445,11 @@ impl<T: Scalar> Geometry<T> {
             let w = self.k * (p.wb - p.wa);
             v[3..].copy_from_slice(w.as_slice());
         }
-        for k in 0..6 {
-            if roles[k] != Role::Absent && !Self::factored(ct, k) {
-                v[k] = self.grad[k].rate(p);
+        if let Some(own) = &self.grad {
+            for k in 0..6 {
+                if roles[k] != Role::Absent && !Self::factored(ct, k) {
+                    v[k] = own[k].rate(p);
+                }
             }
         }
         v
@@ -492,16 +495,18 @@ impl<T: Scalar> Geometry<T> {
             mb -= m;
         }
         let roles = ct.roles();
-        for k in 0..6 {
-            let fk = f[k];
-            if roles[k] != Role::Absent
-                && !Self::factored(ct, k)
-                && (fk.re() != 0.0 || fk.eps() != 0.0)
-            {
-                let gr = &self.grad[k];
-                ma -= gr.ta * fk;
-                fb -= gr.xb * fk;
-                mb -= gr.tb * fk;
+        if let Some(own) = &self.grad {
+            for k in 0..6 {
+                let fk = f[k];
+                if roles[k] != Role::Absent
+                    && !Self::factored(ct, k)
+                    && (fk.re() != 0.0 || fk.eps() != 0.0)
+                {
+                    let gr = &own[k];
+                    ma -= gr.ta * fk;
+                    fb -= gr.xb * fk;
+                    mb -= gr.tb * fk;
+                }
             }
         }
         (ma, fb, mb)
@@ -511,7 +516,7 @@ impl<T: Scalar> Geometry<T> {
     /// what `rates` and `loads` use, for tests and inspection.
     pub fn gradient(&self, ct: ConnectionType, k: usize, d: &Vec3<T>) -> Grad<T> {
         if ct.roles()[k] == Role::Absent || !Self::factored(ct, k) {
-            return self.grad[k];
+            return self.grad.map_or(Grad::zero(), |own| own[k]);
         }
         if k < 3 {
             let e: Vec3<T> = self.triad.column(k).into();
@@ -686,9 +691,9 @@ pub fn geometry(
 }
 
 /// `geometry` at a pose, written into `g` (the per-step path, `connector::evaluate_into`: no
-/// copy of the result). Every field of `g` is overwritten (with zero where it does not apply
-/// to the connection type: `grad` of the factored projection components, `tri_a` when the
-/// triad is node a's frame, `k` without FLEXION-TORSION); on an error its contents are
+/// copy of the result). Every field of `g` is overwritten (`grad` None where no component
+/// has a gradient of its own, zero at the factored slots otherwise; `tri_a` zero when the
+/// triad is node a's frame, `k` zero without FLEXION-TORSION); on an error its contents are
 /// unspecified.
 ///
 /// A caller that starts from `Geometry::BLANK` (all bits zero) lets the compiler drop that
@@ -705,14 +710,13 @@ pub fn geometry_into<T: Scalar>(
 ) -> Result<(), Singular> {
     let (ra, rb, d) = (pose.ra, pose.rb, pose.d);
     // only the slots the connection type leaves absent are zeroed, the others are written
-    // below; the gradients are zeroed as a whole (those of absent and factored slots stay
-    // zero), which the compiler drops where nothing reads them
+    // below; gradients of their own only where a component has one
     for (k, role) in ct.roles().iter().enumerate() {
         if *role == Role::Absent {
             g.pos[k] = T::zero();
         }
     }
-    g.grad = [Grad::zero(); 6];
+    g.grad = None;
     g.triad = ra;
     g.branches = *prev;
 
@@ -757,15 +761,16 @@ pub fn geometry_into<T: Scalar>(
                 lift3(&prev.e_r_local)
             };
             let e_r = ra * e_r_local;
+            let own = g.grad.get_or_insert([Grad::zero(); 6]);
             g.pos[0] = r;
-            g.grad[0] = Grad {
+            own[0] = Grad {
                 xa: -e_r,
                 ta: -e3a.cross(&e_r) * l,
                 xb: e_r,
                 tb: Vec3::zeros(),
             };
             g.pos[2] = l;
-            g.grad[2] = Grad {
+            own[2] = Grad {
                 xa: -e3a,
                 ta: e3a.cross(&d),
                 xb: e3a,
@@ -795,8 +800,9 @@ pub fn geometry_into<T: Scalar>(
         let dy_ta = -e2a.cross(&e3b);
         let dx_tb = e3b.cross(&e3a);
         let dx_ta = e3a.cross(&e3b);
+        let own = g.grad.get_or_insert([Grad::zero(); 6]);
         g.pos[3] = alpha;
-        g.grad[3] = Grad {
+        own[3] = Grad {
             xa: Vec3::zeros(),
             ta: (dy_ta * x - dx_ta * y) / rr,
             xb: Vec3::zeros(),
@@ -804,14 +810,14 @@ pub fn geometry_into<T: Scalar>(
         };
         // constraint rotations: φ2 = −e3a·e1b, φ3 = e2a·e1b (both 0 when e1b ∥ e1a)
         g.pos[4] = -e3a.dot(&e1b);
-        g.grad[4] = Grad {
+        own[4] = Grad {
             xa: Vec3::zeros(),
             ta: -e3a.cross(&e1b),
             xb: Vec3::zeros(),
             tb: -e1b.cross(&e3a),
         };
         g.pos[5] = e2a.dot(&e1b);
-        g.grad[5] = Grad {
+        own[5] = Grad {
             xa: Vec3::zeros(),
             ta: e2a.cross(&e1b),
             xb: Vec3::zeros(),
@@ -1152,6 +1158,6 @@ mod tests {
         };
         let g2 = geometry(ct, &a, &on_axis, &g.branches).expect("regular");
         assert_eq!(g2.pos[0], 0.0);
-        assert!((g2.grad[0].xb - Vec3::y()).norm() < 1e-15);
+        assert!((g2.gradient(ct, 0, &Vec3::zeros()).xb - Vec3::y()).norm() < 1e-15);
     }
 }
