@@ -3,7 +3,7 @@
 use super::ModelInstance;
 use super::{singular_text, Call, FmiVersion};
 use crate::error::{Category, FmuError, FmuResult, Level};
-use crate::model::access::{non_finite_cause, write_node};
+use crate::model::access::{nodes_into, non_finite_cause, write_node};
 use crate::model::snapshot::{EventRecord, LastEvent, Mode, POSE_TWIST};
 use crate::physics::connector::{Extrapolation, State};
 use crate::physics::events::{self, Values, EVENT_TOL};
@@ -63,8 +63,10 @@ impl ModelInstance {
                 "the step's end currentCommunicationPoint + communicationStepSize = {t:?} + {h:?} is not finite"
             )));
         }
-        let (a, b) = self.nodes()?;
-        let (ra, rb) = (self.rates(0, &a, t), self.rates(1, &b, t));
+        let mut nodes = [Node::default(); 2];
+        nodes_into(&self.s.inputs, &mut nodes)?;
+        let [a, b] = &nodes;
+        let (ra, rb) = (self.rates(0, a, t), self.rates(1, b, t));
         let before = self.wants(Category::Events).then_some(self.s.state);
         // the event functions at the step's start: from the outputs at its inputs when they are
         // at hand (the cache) or needed; the sides at the last step's end where every function
@@ -103,8 +105,8 @@ impl ModelInstance {
             self.ct,
             &self.s.params,
             &self.s.state,
-            (&a, &ra),
-            (&b, &rb),
+            (a, &ra),
+            (b, &rb),
             h,
             track,
             (self.cache.spare(), &mut next),
@@ -132,7 +134,11 @@ impl ModelInstance {
                 (o.event_time, o.event_count) = (self.s.event.time, self.s.event.count);
                 // the event functions at this step's end, and whether each is far from its
                 // event, judged by its change since the start (exact, or the last step's end)
-                self.s.events = far.map(|far| EventRecord { end: met.end, far });
+                match (far, &mut self.s.events) {
+                    // in place: the record is as large as the functions' values
+                    (Some(far), Some(r)) => (r.end, r.far) = (met.end, far),
+                    (far, events) => *events = far.map(|far| EventRecord { end: met.end, far }),
+                }
                 write_node(&mut self.s.inputs[0], &a1);
                 write_node(&mut self.s.inputs[1], &b1);
                 self.s.input_der_set = [[false; POSE_TWIST]; 2];

@@ -36,6 +36,13 @@ impl Ty {
 /// The nodes from raw inputs (quaternions normalised; a bad one is refused).
 pub fn nodes_of(inputs: &[NodeInputs; 2]) -> FmuResult<(Node, Node)> {
     let mut out = [Node::default(); 2];
+    nodes_into(inputs, &mut out)?;
+    Ok((out[0], out[1]))
+}
+
+/// `nodes_of` written into `out` (the per-step path: no copy out of a result).
+#[inline]
+pub fn nodes_into(inputs: &[NodeInputs; 2], out: &mut [Node; 2]) -> FmuResult<()> {
     for (n, node) in out.iter_mut().enumerate() {
         let u = &inputs[n];
         let q = quat_from_wxyz(u[3], u[4], u[5], u[6]).ok_or_else(|| {
@@ -52,7 +59,7 @@ pub fn nodes_of(inputs: &[NodeInputs; 2]) -> FmuResult<(Node, Node)> {
             w: Vec3::new(u[10], u[11], u[12]),
         };
     }
-    Ok((out[0], out[1]))
+    Ok(())
 }
 
 /// Writes an extrapolated node back into the inputs (its pose and twist; the acceleration

@@ -306,10 +306,10 @@ pub fn advance_into(
         end: [Real::NAN; events::N_EVENTS],
         end_on: 0,
     };
-    // the event functions at the start of the substep; whether the first event is located
-    let mut at_start = track.map(|t| *t.start);
-    // the functions taking part at the start of the substep, once a substep has set them
-    let mut start_on = 0;
+    // the event functions at the start of the substep: the caller's (`track.start`) until the
+    // exact values at τ = 0 or a substep's end replace them here; whether the first event is
+    // located
+    let mut own_start: Option<Values> = None;
     let mut located = false;
     // the state the substep starts from: `st`, then a copy of the last substep's end
     let mut prev: Option<State> = None;
@@ -354,17 +354,18 @@ pub fn advance_into(
         }
         let s: &State = if j == 1 { st } else { prev.insert(*next) };
         substep(s, (tau, dt), (&a, &b), o, next)?;
-        if let (Some(start), Some(track)) = (at_start.as_mut(), track) {
+        if let Some(track) = track {
             let end = values_on(ct, p, s, o);
-            let mut crossed = crossed_on(start, &end.v, end.on);
+            let mut crossed = crossed_on(own_start.as_ref().unwrap_or(track.start), &end.v, end.on);
             if j == 1 && !track.exact && crossed != 0 {
                 // the assumed sides at τ = 0 say a function crossed: take the exact values
                 let mut at0 = (Outputs::default(), State::default());
                 evaluate_into(ct, p, st, a0, b0, Eval::Read, (&mut at0.0, &mut at0.1))
                     .map_err(|e| StepError::Singular(e, 0.0))?;
-                *start = values(ct, p, st, &at0.0);
-                crossed = crossed_on(start, &end.v, end.on);
+                let exact = own_start.insert(values(ct, p, st, &at0.0));
+                crossed = crossed_on(exact, &end.v, end.on);
             }
+            let start = own_start.as_ref().unwrap_or(track.start);
             if crossed != 0 && !located {
                 // the first substep with events: locate each, the earliest is the first event;
                 // one within `min_tau` of the step's start is met there (no zero-length step
@@ -414,12 +415,13 @@ pub fn advance_into(
             } else {
                 values_on(ct, p, next, o)
             };
-            (*start, start_on) = (next_start.v, next_start.on);
+            if j == n {
+                (met.end, met.end_on) = (next_start.v, next_start.on);
+            } else {
+                own_start = Some(next_start.v);
+            }
         }
         if j == n {
-            if let Some(end) = at_start {
-                (met.end, met.end_on) = (end, start_on);
-            }
             return Ok((a, b, met));
         }
     }
