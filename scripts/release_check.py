@@ -284,11 +284,22 @@ def parameters(names: set[str]) -> dict[str, float]:
     return p
 
 
-def scene_script(md: ET.Element) -> str:
-    real = {sv.get("name"): (int(sv.get("valueReference")), sv.get("causality"))
+def real_variables(md: ET.Element) -> dict[str, tuple[int, str]]:
+    """name -> (value reference, causality) of every Real variable."""
+    return {sv.get("name"): (int(sv.get("valueReference")), sv.get("causality"))
             for sv in md.iter("ScalarVariable") if sv.find("Real") is not None}
+
+
+def output_names(md: ET.Element) -> list[str]:
+    """The Real outputs in the order the scene reads them (by value reference)."""
+    real = real_variables(md)
+    return [n for n, (vr, c) in sorted(real.items(), key=lambda kv: kv[1][0]) if c == "output"]
+
+
+def scene_script(md: ET.Element) -> str:
+    real = real_variables(md)
     params = parameters({n for n, (_, c) in real.items() if c == "parameter"})
-    outputs = [vr for _, (vr, c) in sorted(real.items(), key=lambda kv: kv[1][0]) if c == "output"]
+    outputs = [real[n][0] for n in output_names(md)]
     get = f"G {len(outputs)} " + " ".join(map(str, outputs))
     lines = [f"I {md.get('guid')}"]
     lines += [f"S {real[n][0]} {bits(val)}" for n, val in sorted(params.items())]
@@ -337,6 +348,18 @@ def compare_under_wine(variant: str, md: ET.Element, so: Path, dll: Path, work: 
     # the arithmetic after them, so they scale with the magnitudes that enter an output: the
     # tolerance is relative to max(|a|, |b|, largest |value| of that output over the scene).
     scale = np.nanmax(np.abs(np.where(np.isfinite(a), a, np.nan)), axis=0, initial=0.0)
+    # A node moment is a sum of lever × force terms (d × F and the like), which can cancel to far
+    # less than the terms themselves; an ulp of those terms is then many ulps of the moment (the
+    # moment about a.3 of ProjectionCartesian: 28 N·m at one row, made of terms ≈ 5e3 N·m). Its
+    # scale is at least the scene's largest |x_b − x_a| times its largest node force.
+    names = output_names(md)
+    cols = lambda pattern: [j for j, n in enumerate(names) if re.fullmatch(pattern, n)]  # noqa: E731
+    forces, moments = cols(r"[ab]\.f\[\d\]"), cols(r"[ab]\.m\[\d\]")
+    if forces and moments:
+        lever = max(math.dist([inputs_at(k * DT)[f"a.r[{i}]"] for i in (1, 2, 3)],
+                              [inputs_at(k * DT)[f"b.r[{i}]"] for i in (1, 2, 3)])
+                    for k in range(STEPS + 1))
+        scale[moments] = np.maximum(scale[moments], lever * scale[forces].max())
     with np.errstate(invalid="ignore", divide="ignore"):
         diff = np.where(equal, 0.0, np.abs(a - b))
         rel = np.where(equal, 0.0, diff / np.maximum(np.abs(a), np.abs(b)))
