@@ -111,8 +111,8 @@ pub fn values(ct: ConnectionType, p: &Params, st: &State, o: &Outputs) -> Values
 pub struct Taking {
     /// The values (NaN: not taking part).
     pub v: Values,
-    /// Bit i set: function i takes part (its value is written; a NaN there, which the
-    /// comparisons treat as not taking part, is possible only where a value is not finite).
+    /// Bit i set: function i takes part (its value is written; where the function is
+    /// undefined that value can still be NaN, which the comparisons treat as not taking part).
     pub on: u32,
 }
 
