@@ -360,39 +360,9 @@ pub struct Geometry<T: Scalar = Real> {
     pub branches: Branches,
 }
 
-impl Geometry {
-    /// All zero, frames the identity: a value to evaluate into (`geometry_into`).
-    pub const ZERO: Geometry = Geometry {
-        pos: [0.0; 6],
-        grad: None,
-        triad: Mat3::new(1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0),
-        tri_a: Mat3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
-        k: Mat3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
-        branches: Branches {
-            beta: 0.0,
-            alpha: 0.0,
-            e_r_local: Vec3::new(1.0, 0.0, 0.0),
-        },
-    };
-
-    /// All bits zero (triad and e_r_local included, so not a valid geometry): the cheapest
-    /// value to evaluate into with `geometry_into`, which overwrites every field.
-    pub const BLANK: Geometry = Geometry {
-        pos: [0.0; 6],
-        grad: None,
-        triad: Mat3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
-        tri_a: Mat3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
-        k: Mat3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
-        branches: Branches {
-            beta: 0.0,
-            alpha: 0.0,
-            e_r_local: Vec3::new(0.0, 0.0, 0.0),
-        },
-    };
-}
-
 impl<T: Scalar> Geometry<T> {
-    /// `Geometry::BLANK` in any scalar (all zero; the same value for `Real`).
+    /// All zero (triad and e_r_local included, so not a valid geometry): the cheapest value
+    /// to evaluate into with `geometry_into`, which overwrites every field.
     #[inline(always)]
     pub fn blank() -> Geometry<T> {
         Geometry {
@@ -685,7 +655,7 @@ pub fn geometry(
     b: &Node,
     prev: &Branches,
 ) -> Result<Geometry, Singular> {
-    let mut g = Geometry::BLANK;
+    let mut g = Geometry::blank();
     geometry_into(ct, &Pose::of(a, b), prev, &mut g)?;
     Ok(g)
 }
@@ -696,11 +666,10 @@ pub fn geometry(
 /// triad is node a's frame, `k` zero without FLEXION-TORSION); on an error its contents are
 /// unspecified.
 ///
-/// A caller that starts from `Geometry::BLANK` (all bits zero) lets the compiler drop that
-/// zeroing where this function overwrites it or nothing reads it: with the connection type a
-/// constant, every store below is to a known place (a `Result<Geometry, _>` returned by value
-/// was copied instead, and so was a start from `Geometry::ZERO`, whose identity triad is not
-/// zero bits).
+/// A caller that starts from `Geometry::blank()` (all zero) lets the compiler drop that
+/// zeroing where this function overwrites it: with the connection type a constant, every store
+/// below is to a known place (a `Result<Geometry, _>` returned by value was copied instead, and
+/// so was a start from a geometry with an identity triad, which is not zero bits).
 #[inline(always)]
 pub fn geometry_into<T: Scalar>(
     ct: ConnectionType,
