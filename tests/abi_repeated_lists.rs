@@ -1,14 +1,14 @@
 //! fmi2SetReal and fmi2GetReal remember the last list of node inputs (node loads) they were
-//! called with and serve the same list again without looking each VR up (src/instance/memo.rs).
-//! A repeated list must behave exactly as a first one: all or nothing with a bad value (one
-//! message naming it, nothing changed), every value where its own VR says, and reads that
-//! follow the inputs and the steps.
+//! called with, and fmi2GetDirectionalDerivative its last list of unknowns, and serve the same
+//! list again without looking each VR up (src/instance/memo.rs). A repeated list must behave
+//! exactly as a first one: all or nothing with a bad value (one message naming it, nothing
+//! changed), every value where its own VR says, and reads that follow the inputs and the steps.
 
 mod common;
 use common::{assert_error_logged, Fmu};
-use connector_fmu::fmi2::exports::{fmi2GetReal, fmi2SetReal};
+use connector_fmu::fmi2::exports::{fmi2GetDirectionalDerivative, fmi2GetReal, fmi2SetReal};
 use connector_fmu::fmi2::types::fmi2Status;
-use connector_fmu::variables::{table, Causality, Start, Variant, VARIANTS};
+use connector_fmu::variables::{table, Causality, Start, Variability, Variant, VARIANTS};
 
 /// The variant's node inputs (every Real input), in table order.
 fn node_inputs(v: Variant) -> Vec<(u32, &'static str)> {
@@ -139,5 +139,87 @@ fn a_repeated_load_list_reads_the_current_loads() {
             }
         }
         assert!(changed >= 3, "{v:?}: the loads should follow the inputs");
+    }
+}
+
+/// J·δ for the unknowns `u` along one known `k` (seed 1), with the call's status.
+fn derivative(f: &Fmu, u: &[u32], k: u32) -> (fmi2Status, Vec<f64>) {
+    let mut out = vec![f64::NAN; u.len()];
+    let s = fmi2GetDirectionalDerivative(f.c, u.as_ptr(), u.len(), &k, 1, &1.0, out.as_mut_ptr());
+    (s, out)
+}
+
+#[test]
+fn a_repeated_unknown_list_gives_each_unknown_its_own_derivative() {
+    for spec in VARIANTS {
+        let v = spec.variant;
+        let f = Fmu::new(v);
+        for k in 1..=6 {
+            f.set_real_if(&format!("elasticity.k{k}"), 100.0 * k as f64);
+            f.set_real_if(&format!("damping.c{k}"), 1.0 + k as f64);
+        }
+        f.init();
+        let inputs = node_inputs(v);
+        let vrs: Vec<u32> = inputs.iter().map(|(vr, _)| *vr).collect();
+        assert_eq!(set(&f, &vrs, &values_for(&inputs, 0.02)), fmi2Status::OK);
+        assert_eq!(f.step(0.0, 1e-3), fmi2Status::OK, "{v:?}: {:?}", f.log());
+        let unknowns: Vec<u32> = table(v)
+            .vars
+            .iter()
+            .filter(|x| x.causality == Causality::Output)
+            .filter(|x| x.variability == Variability::Continuous)
+            .filter(|x| matches!(x.start, Start::Real(_)))
+            .map(|x| x.vr)
+            .collect();
+        // the unknowns one at a time: each its own list (the reference)
+        let one_by_one = |k: u32| -> Vec<f64> {
+            unknowns
+                .iter()
+                .map(|&u| {
+                    let (s, d) = derivative(&f, &[u], k);
+                    assert_eq!(s, fmi2Status::OK, "{v:?} VR {u}: {:?}", f.log());
+                    d[0]
+                })
+                .collect()
+        };
+        let mut nonzero = 0;
+        for &(k, _) in inputs.iter().take(13) {
+            let want = one_by_one(k);
+            nonzero += want.iter().filter(|&&x| x != 0.0).count();
+            // the whole list twice (the second call repeats the remembered list) along the
+            // same known, and along this known after the last one's list
+            for _ in 0..2 {
+                let (s, got) = derivative(&f, &unknowns, k);
+                assert_eq!(s, fmi2Status::OK, "{v:?}: {:?}", f.log());
+                assert_eq!(bits(&got), bits(&want), "{v:?} along VR {k}");
+            }
+            // the list in another order is another list: each value where its own VR says
+            let rev: Vec<u32> = unknowns.iter().rev().copied().collect();
+            let (s, mut got) = derivative(&f, &rev, k);
+            assert_eq!(s, fmi2Status::OK);
+            got.reverse();
+            assert_eq!(bits(&got), bits(&want), "{v:?} reversed, along VR {k}");
+        }
+        assert!(nonzero > 0, "{v:?}: the derivatives should not all be 0");
+        // a list with a node input among the unknowns: refused and named, also right after
+        // the good list was remembered, and the good list works again after it
+        let (k, _) = inputs[0];
+        let mut bad = unknowns.clone();
+        bad.push(k);
+        let name = &inputs[0].1;
+        for _ in 0..2 {
+            let before = f.log_len();
+            let (s, _) = derivative(&f, &bad, k);
+            assert_error_logged(&f, before, s, "fmi2GetDirectionalDerivative");
+            let message = &f.log()[before].message;
+            assert!(message.contains(name), "{v:?}: {message}");
+        }
+        let (s, got) = derivative(&f, &unknowns, k);
+        assert_eq!(s, fmi2Status::OK);
+        assert_eq!(
+            bits(&got),
+            bits(&one_by_one(k)),
+            "{v:?} after the refused list"
+        );
     }
 }

@@ -5,7 +5,8 @@ use crate::error::{FmuError, FmuResult};
 use crate::model::access::{continuous_row, Ty};
 use crate::model::slots::NO_INDEX;
 use crate::model::snapshot::{NODE_INPUTS, POSE_TWIST};
-use crate::model::variables::{Causality, Variability};
+use crate::model::variables::{Causality, Table, Variability};
+use crate::physics::connector::Outputs;
 use crate::physics::friction::Eval;
 use crate::physics::math::Real;
 
@@ -71,9 +72,15 @@ impl ModelInstance {
         let row_of = |vr: u32| rows.get(vr as usize).copied().unwrap_or(NO_INDEX);
         let input_of = |vr: u32| inputs.get(vr as usize).copied().unwrap_or(NO_INDEX);
         // every unknown and seed is checked before anything is computed, through the compact
-        // tables; the variable table only names the first one refused
-        if unknowns.iter().any(|&vr| row_of(vr) == NO_INDEX) {
-            return Err(self.unknown_error(unknowns));
+        // tables; the variable table only names the first one refused. The unknowns' rows are
+        // remembered with their list: a linear-implicit master asks for the same unknowns
+        // along every input, and a list equal to the last one was checked then.
+        if self.unknown_memo.slots_of(unknowns).is_none() {
+            if unknowns.iter().any(|&vr| row_of(vr) == NO_INDEX) {
+                return Err(self.unknown_error(unknowns));
+            }
+            let rows = unknowns.iter().map(|&vr| row_of(vr));
+            self.unknown_memo.remember(unknowns, rows);
         }
         let seeds = knowns.iter().zip(dknown);
         if seeds
@@ -100,19 +107,38 @@ impl ModelInstance {
         // effects slipping at the current inputs are differentiated on their slip branch
         let here = self.outputs()?.friction;
         let mode = Eval::Tangent([here.status, here.status_r1]);
-        let row = continuous_row(&self.tangent_at(&seed, mode)?);
-        for (&vr, slot) in unknowns.iter().zip(out.iter_mut()) {
-            let d = dmax * row[row_of(vr) as usize].eps;
-            if !d.is_finite() {
-                let name = self.table.get(vr).map_or("?", |v| v.name.as_str());
-                return Err(FmuError::error(format!(
-                    "the derivative of {name} along dvKnown is not finite (the seed's size {dmax:e} takes it beyond the range of a double)"
-                )));
-            }
+        let mut o = Outputs::default();
+        self.tangent_into(&seed, mode, &mut o)?;
+        let row = continuous_row(&o);
+        // one pass over the remembered rows (all within the row), then the first value that
+        // is not finite named, if any
+        let mut finite = true;
+        for (&r, slot) in self.unknown_memo.slots().iter().zip(out.iter_mut()) {
+            let d = row.get(r as usize).map_or(0.0, |x| dmax * x.eps);
+            finite &= d.is_finite();
             *slot = d;
+        }
+        if !finite {
+            return Err(not_finite_error(self.table, unknowns, out, dmax));
         }
         Ok(())
     }
+}
+
+/// The error for the first derivative that is not finite (its seed's size `dmax` takes it
+/// beyond the range of a double).
+#[cold]
+#[inline(never)]
+fn not_finite_error(table: &Table, unknowns: &[u32], out: &[Real], dmax: Real) -> FmuError {
+    let vr = unknowns
+        .iter()
+        .zip(out)
+        .find(|(_, d)| !d.is_finite())
+        .map_or(0, |(&vr, _)| vr);
+    let name = table.get(vr).map_or("?", |v| v.name.as_str());
+    FmuError::error(format!(
+        "the derivative of {name} along dvKnown is not finite (the seed's size {dmax:e} takes it beyond the range of a double)"
+    ))
 }
 
 impl ModelInstance {

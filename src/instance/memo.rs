@@ -1,8 +1,10 @@
-//! The value-reference list of the last fast-path get or set, resolved: an importer repeats
-//! the same list every step (the node inputs in, the node loads out), and a list equal to the
-//! last one needs no look-up per VR (one comparison of the lists instead).
+//! The value-reference list of the last fast-path get or set, or of the last directional
+//! derivative's unknowns, resolved: an importer repeats the same list every step (the node
+//! inputs in, the node loads out; the same unknowns along every input), and a list equal to
+//! the last one needs no look-up per VR (one comparison of the lists instead).
 
-/// A VR list and the slot each VR resolved to (`RealTables::input_index` or `load_index`).
+/// A VR list and the slot each VR resolved to (`RealTables::input_index`, `load_index` or
+/// `continuous_index`).
 #[derive(Default)]
 pub(super) struct VrMemo {
     vrs: Vec<u32>,

@@ -16,7 +16,7 @@ mod values;
 use crate::error::{Category, FmuError, FmuResult, Level};
 use crate::model::access::{nodes_of, non_finite_cause};
 use crate::model::slots::{real_tables, RealTables};
-use crate::model::snapshot::{NodeInputs, PoseTwist, Snapshot};
+use crate::model::snapshot::{NodeInputs, PoseTwist, Snapshot, POSE_TWIST};
 use crate::model::variables::{table, Table, Variant};
 use crate::physics::connector::{evaluate_into, evaluate_pose, Outputs, State};
 use crate::physics::friction::Eval;
@@ -145,6 +145,9 @@ pub struct ModelInstance {
     set_memo: VrMemo,
     /// The last VR list of fmi2GetReal's per-step path, resolved to node-load slots.
     get_memo: VrMemo,
+    /// The unknowns of the last directional derivative, with their rows in
+    /// `access::continuous_row`.
+    unknown_memo: VrMemo,
 }
 
 impl ModelInstance {
@@ -165,6 +168,7 @@ impl ModelInstance {
             cache: OutputCache::new(),
             set_memo: VrMemo::default(),
             get_memo: VrMemo::default(),
+            unknown_memo: VrMemo::default(),
         }
     }
 
@@ -322,11 +326,22 @@ impl ModelInstance {
     /// The outputs with their exact derivatives along the direction `seed` of the inputs
     /// (forward-mode, `math::Dual`), at the current inputs and committed state (in
     /// initialization: with the state the instance would start from, which moves with the
-    /// inputs). `mode` is `Eval::Tangent`: friction on the branch of its status here.
-    fn tangent_at(&self, seed: &[PoseTwist; 2], mode: Eval) -> FmuResult<Outputs<Dual>> {
+    /// inputs), written into `o`. `mode` is `Eval::Tangent`: friction on the branch of its
+    /// status here. Written in place, like the step's outputs: an `Outputs<Dual>` is over a
+    /// kilobyte, and returning it by value copied it three times per derivative.
+    fn tangent_into(
+        &self,
+        seed: &[PoseTwist; 2],
+        mode: Eval,
+        o: &mut Outputs<Dual>,
+    ) -> FmuResult<()> {
         let u = &self.s.inputs;
-        let dual: [NodeDual; 2] =
-            std::array::from_fn(|n| std::array::from_fn(|i| Dual::new(u[n][i], seed[n][i])));
+        let mut dual: [NodeDual; 2] = [[Dual::default(); POSE_TWIST]; 2];
+        for ((d, u), s) in dual.iter_mut().zip(u).zip(seed) {
+            for ((d, &u), &s) in d.iter_mut().zip(u).zip(s) {
+                *d = Dual::new(u, s);
+            }
+        }
         let pose = Pose::of_inputs(&dual[0], &dual[1]);
         let p = &self.s.params;
         let st = if self.s.mode == Mode::InitializationMode {
@@ -334,9 +349,8 @@ impl ModelInstance {
         } else {
             self.s.state.lift()
         };
-        let (mut o, mut next) = (Outputs::default(), State::default());
-        evaluate_pose(self.ct, p, &st, &pose, mode, (&mut o, &mut next)).map_err(singular_error)?;
-        Ok(o)
+        let mut next = State::default();
+        evaluate_pose(self.ct, p, &st, &pose, mode, (o, &mut next)).map_err(singular_error)
     }
 
     /// Outputs at the current inputs and committed state, cached until something changes.

@@ -319,6 +319,7 @@ pub fn continuous_index(f: Field) -> Option<u8> {
 
 /// Every continuous Real output in one row, at `continuous_index` (the directional
 /// derivatives read the unknowns from it: one copy instead of a match per unknown).
+#[inline(always)]
 pub fn continuous_row<T: Scalar>(o: &Outputs<T>) -> [T; CONTINUOUS_LEN] {
     let mut row = [T::zero(); CONTINUOUS_LEN];
     let loads = [o.fa, o.ma, o.fb, o.mb];
