@@ -75,7 +75,7 @@ impl ModelInstance {
         // tables; the variable table only names the first one refused. The unknowns' rows are
         // remembered with their list: a linear-implicit master asks for the same unknowns
         // along every input, and a list equal to the last one was checked then.
-        if self.unknown_memo.slots_of(unknowns).is_none() {
+        if !self.unknown_memo.holds(unknowns) {
             if unknowns.iter().any(|&vr| row_of(vr) == NO_INDEX) {
                 return Err(self.unknown_error(unknowns));
             }

@@ -2,26 +2,46 @@
 //! derivative's unknowns, resolved: an importer repeats the same list every step (the node
 //! inputs in, the node loads out; the same unknowns along every input), and a list equal to
 //! the last one needs no look-up per VR (one comparison of the lists instead).
+//!
+//! A list is also kept as runs of consecutive slots: an importer lists a node's inputs (or
+//! the loads) in the order of the model description, so the values move as a few slices
+//! (`Run`) instead of one by one through the slot table.
+
+/// Values `at..at + len` of a remembered list belong to the slots `slot..slot + len`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Run {
+    pub slot: usize,
+    pub at: usize,
+    pub len: usize,
+}
 
 /// A VR list and the slot each VR resolved to (`RealTables::input_index`, `load_index` or
-/// `continuous_index`).
+/// `continuous_index`), also as runs.
 #[derive(Default)]
 pub(super) struct VrMemo {
     vrs: Vec<u32>,
     slots: Vec<u8>,
+    runs: Vec<Run>,
 }
 
 impl VrMemo {
-    /// The slots of `vrs` when it is the remembered list.
+    /// Whether `vrs` is the remembered list.
     #[inline]
-    pub(super) fn slots_of(&self, vrs: &[u32]) -> Option<&[u8]> {
-        (self.vrs == vrs).then_some(&self.slots)
+    pub(super) fn holds(&self, vrs: &[u32]) -> bool {
+        self.vrs == vrs
     }
 
     /// The slots of the remembered list.
     #[inline]
     pub(super) fn slots(&self) -> &[u8] {
         &self.slots
+    }
+
+    /// The remembered list as runs of consecutive slots, in the list's order (a VR listed
+    /// twice is written twice, the later value last, as one by one).
+    #[inline]
+    pub(super) fn runs(&self) -> &[Run] {
+        &self.runs
     }
 
     /// Remembers `vrs`, which resolved to `slots` (no allocation once the buffers have grown
@@ -31,5 +51,36 @@ impl VrMemo {
         self.vrs.extend_from_slice(vrs);
         self.slots.clear();
         self.slots.extend(slots);
+        self.runs.clear();
+        for (at, &s) in self.slots.iter().enumerate() {
+            let slot = s as usize;
+            match self.runs.last_mut() {
+                Some(r) if r.slot + r.len == slot => r.len += 1,
+                _ => self.runs.push(Run { slot, at, len: 1 }),
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Run, VrMemo};
+
+    #[test]
+    fn runs_follow_consecutive_slots_in_the_lists_order() {
+        let mut m = VrMemo::default();
+        let run = |slot, at, len| Run { slot, at, len };
+        m.remember(&[10, 11, 12, 20, 21, 5], [0u8, 1, 2, 19, 20, 7].into_iter());
+        assert!(m.holds(&[10, 11, 12, 20, 21, 5]));
+        assert!(!m.holds(&[10, 11, 12, 20, 21]));
+        assert_eq!(m.runs(), [run(0, 0, 3), run(19, 3, 2), run(7, 5, 1)]);
+        // a repeated or reversed slot starts a new run
+        m.remember(&[1, 1, 3, 2], [4u8, 4, 6, 5].into_iter());
+        assert_eq!(
+            m.runs(),
+            [run(4, 0, 1), run(4, 1, 1), run(6, 2, 1), run(5, 3, 1)]
+        );
+        m.remember(&[], std::iter::empty());
+        assert!(m.holds(&[]) && m.runs().is_empty());
     }
 }

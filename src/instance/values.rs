@@ -123,17 +123,18 @@ impl ModelInstance {
         // hands the whole call to the general batch, which names the culprit (all or nothing).
         self.allowed(Call::Set)?;
         // The list of the last call again (every step's case): its slots are known, so the
-        // values are checked first and then written, without a look-up or a copy to put back.
-        if let Some(slots) = self.set_memo.slots_of(vrs) {
-            // without early exit, which the compiler vectorises
-            if values.iter().fold(true, |all, x| all & x.is_finite()) {
-                let flat = self.s.inputs.as_flattened_mut();
-                for (&j, &x) in slots.iter().zip(values) {
-                    flat[j as usize] = x;
+        // values are checked first and then written run by run (`memo::Run`), without a
+        // look-up or a copy to put back.
+        if self.set_memo.holds(vrs) && all_finite(values) {
+            let flat = self.s.inputs.as_flattened_mut();
+            for r in self.set_memo.runs() {
+                let (to, from) = (flat.get_mut(r.slot..r.slot + r.len), values.get(r.at..));
+                if let (Some(to), Some(from)) = (to, from.and_then(|x| x.get(..r.len))) {
+                    to.copy_from_slice(from);
                 }
-                self.cache.clear();
-                return Ok(());
             }
+            self.cache.clear();
+            return Ok(());
         }
         let index = &*self.real.input_index;
         let slot = |vr: u32| index.get(vr as usize).copied().unwrap_or(NO_INDEX);
@@ -229,10 +230,13 @@ impl ModelInstance {
         let index = &*self.real.load_index;
         let load = |vr: u32| index.get(vr as usize).copied().unwrap_or(NO_INDEX);
         // the list of the last call again (every step's case): its slots are known
-        if self.get_memo.slots_of(vrs).is_some() {
+        if self.get_memo.holds(vrs) {
             let loads = node_loads(self.outputs()?);
-            for (&l, slot) in self.get_memo.slots().iter().zip(out.iter_mut()) {
-                *slot = loads[l as usize];
+            for r in self.get_memo.runs() {
+                let (to, from) = (out.get_mut(r.at..r.at + r.len), loads.get(r.slot..));
+                if let (Some(to), Some(from)) = (to, from.and_then(|x| x.get(..r.len))) {
+                    to.copy_from_slice(from);
+                }
             }
             return Ok(());
         }
@@ -327,4 +331,22 @@ pub(crate) fn type_name(ty: Ty, fmi: FmiVersion) -> &'static str {
         (Ty::Integer, FmiVersion::V3) => "Int32",
         (Ty::Boolean, _) => "Boolean",
     }
+}
+
+/// Whether every value is finite: x·0 is ±0 for a finite x and NaN for ±∞ and NaN, summed in
+/// four lanes without early exit, which the compiler vectorises.
+#[inline]
+fn all_finite(values: &[Real]) -> bool {
+    let mut lanes = [0.0; 4];
+    let chunks = values.chunks_exact(4);
+    let rest = chunks.remainder();
+    for c in chunks {
+        for (l, x) in lanes.iter_mut().zip(c) {
+            *l += x * 0.0;
+        }
+    }
+    for (l, x) in lanes.iter_mut().zip(rest) {
+        *l += x * 0.0;
+    }
+    lanes.iter().sum::<Real>() == 0.0
 }
