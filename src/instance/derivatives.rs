@@ -8,7 +8,7 @@ use crate::model::snapshot::{NODE_INPUTS, POSE_TWIST};
 use crate::model::variables::{Causality, Table, Variability};
 use crate::physics::connector::Outputs;
 use crate::physics::friction::Eval;
-use crate::physics::math::Real;
+use crate::physics::math::{all_finite, Real};
 
 impl ModelInstance {
     /// fmi2SetRealInputDerivatives (first order only; valid for the next fmi2DoStep).
@@ -110,15 +110,12 @@ impl ModelInstance {
         let mut o = Outputs::default();
         self.tangent_into(&seed, mode, &mut o)?;
         let row = continuous_row(&o);
-        // one pass over the remembered rows (all within the row), then the first value that
-        // is not finite named, if any
-        let mut finite = true;
+        // the remembered rows (all within the row), then whether every value is finite (in
+        // one vectorised pass; the first that is not is named)
         for (&r, slot) in self.unknown_memo.slots().iter().zip(out.iter_mut()) {
-            let d = row.get(r as usize).map_or(0.0, |x| dmax * x.eps);
-            finite &= d.is_finite();
-            *slot = d;
+            *slot = row.get(r as usize).map_or(0.0, |x| dmax * x.eps);
         }
-        if !finite {
+        if !all_finite(&out[..unknowns.len().min(out.len())]) {
             return Err(not_finite_error(self.table, unknowns, out, dmax));
         }
         Ok(())

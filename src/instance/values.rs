@@ -10,7 +10,7 @@ use crate::model::slots::{RealSlot, NO_INDEX};
 use crate::model::snapshot::{Mode, NodeInputs, Snapshot};
 use crate::model::variables::{Causality, CompPar, Field, FrictionField, VarSpec, Variability};
 use crate::physics::connector::{Outputs, Params};
-use crate::physics::math::Real;
+use crate::physics::math::{all_finite, Real};
 
 impl ModelInstance {
     /// Looks a VR up and checks its type, naming the function in errors.
@@ -331,22 +331,4 @@ pub(crate) fn type_name(ty: Ty, fmi: FmiVersion) -> &'static str {
         (Ty::Integer, FmiVersion::V3) => "Int32",
         (Ty::Boolean, _) => "Boolean",
     }
-}
-
-/// Whether every value is finite: x·0 is ±0 for a finite x and NaN for ±∞ and NaN, summed in
-/// four lanes without early exit, which the compiler vectorises.
-#[inline]
-fn all_finite(values: &[Real]) -> bool {
-    let mut lanes = [0.0; 4];
-    let chunks = values.chunks_exact(4);
-    let rest = chunks.remainder();
-    for c in chunks {
-        for (l, x) in lanes.iter_mut().zip(c) {
-            *l += x * 0.0;
-        }
-    }
-    for (l, x) in lanes.iter_mut().zip(rest) {
-        *l += x * 0.0;
-    }
-    lanes.iter().sum::<Real>() == 0.0
 }

@@ -223,11 +223,17 @@ impl Pose<super::math::Dual> {
         use super::math::{quat_from_wxyz, Dual};
         let frame = |u: &NodeDual| {
             let q = [u[3], u[4], u[5], u[6]];
-            let n = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt();
             // the value as the Real path reads it; a refused quaternion never gets here (the
             // inputs were checked when set), and would give NaN, which the caller refuses
             let unit = quat_from_wxyz(q[0].re, q[1].re, q[2].re, q[3].re)
                 .map_or([Real::NAN; 4], |x| [x.w, x.i, x.j, x.k]);
+            if q.iter().all(|x| x.eps == 0.0) {
+                // an orientation the direction leaves alone (every seed but its own): a
+                // constant frame, its value computed once in Real
+                let r: Mat3 = rotation_of(unit[0], unit[1], unit[2], unit[3]);
+                return r.map(|x| Dual::new(x, 0.0));
+            }
+            let n = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt();
             let q: [Dual; 4] = std::array::from_fn(|i| Dual::new(unit[i], (q[i] / n).eps));
             rotation_of(q[0], q[1], q[2], q[3])
         };

@@ -368,6 +368,25 @@ impl Scalar for Dual {
     }
 }
 
+/// Whether every value is finite: x·0 is ±0 for a finite x and NaN for ±∞ and NaN, summed in
+/// four lanes without early exit, which the compiler vectorises (the per-step path's set, the
+/// directional derivatives).
+#[inline]
+pub fn all_finite(values: &[Real]) -> bool {
+    let mut lanes = [0.0; 4];
+    let chunks = values.chunks_exact(4);
+    let rest = chunks.remainder();
+    for c in chunks {
+        for (l, x) in lanes.iter_mut().zip(c) {
+            *l += x * 0.0;
+        }
+    }
+    for (l, x) in lanes.iter_mut().zip(rest) {
+        *l += x * 0.0;
+    }
+    lanes.iter().sum::<Real>() == 0.0
+}
+
 /// A `Real` array lifted to constants of `T`.
 #[inline(always)]
 pub fn lift<T: Scalar, const N: usize>(x: [Real; N]) -> [T; N] {
