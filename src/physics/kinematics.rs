@@ -537,6 +537,21 @@ pub struct Centred<T: Scalar = Real> {
     pub b: Mat3<T>,
 }
 
+impl Centred {
+    /// The same triad in any scalar, as a constant (no derivative).
+    fn lift<T: Scalar>(&self) -> Centred<T> {
+        let m = |x: &Mat3| x.map(T::cst);
+        Centred {
+            triad: m(&self.triad),
+            angles: self.angles.map(T::cst),
+            alpha: T::cst(self.alpha),
+            k: m(&self.k),
+            a: m(&self.a),
+            b: m(&self.b),
+        }
+    }
+}
+
 /// The centred triad and angles (the four construction steps in docs/physics.md), with exact
 /// derivatives.
 ///
@@ -701,7 +716,15 @@ pub fn geometry_into<T: Scalar>(
     g.tri_a = Mat3::zeros();
     g.k = Mat3::zeros();
     if ct.centred() {
-        let cen = centred(&ra, &rb, prev.beta)?;
+        // a direction that leaves both orientations alone (a seed on positions or velocities)
+        // leaves the triad alone too: computed in Real, the same values, and lifted
+        let constant = |m: &Mat3<T>| m.iter().all(|x| x.eps() == 0.0);
+        let cen = if T::DUAL && constant(&ra) && constant(&rb) {
+            let re = |m: &Mat3<T>| m.map(|x| x.re());
+            centred(&re(&ra), &re(&rb), prev.beta)?.lift()
+        } else {
+            centred(&ra, &rb, prev.beta)?
+        };
         g.triad = cen.triad;
         g.branches.beta = cen.angles.z.re();
         g.tri_a = cen.a;
