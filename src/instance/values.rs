@@ -127,10 +127,21 @@ impl ModelInstance {
         // look-up or a copy to put back.
         if self.set_memo.holds(vrs) && all_finite(values) {
             let flat = self.s.inputs.as_flattened_mut();
-            for r in self.set_memo.runs() {
-                let (to, from) = (flat.get_mut(r.slot..r.slot + r.len), values.get(r.at..));
-                if let (Some(to), Some(from)) = (to, from.and_then(|x| x.get(..r.len))) {
-                    to.copy_from_slice(from);
+            match self.set_memo.runs() {
+                Some(runs) => {
+                    for r in runs {
+                        let (to, from) = (flat.get_mut(r.slot..r.slot + r.len), values.get(r.at..));
+                        if let (Some(to), Some(from)) = (to, from.and_then(|x| x.get(..r.len))) {
+                            to.copy_from_slice(from);
+                        }
+                    }
+                }
+                None => {
+                    for (&j, &x) in self.set_memo.slots().iter().zip(values) {
+                        if let Some(u) = flat.get_mut(j as usize) {
+                            *u = x;
+                        }
+                    }
                 }
             }
             self.cache.clear();
@@ -232,10 +243,19 @@ impl ModelInstance {
         // the list of the last call again (every step's case): its slots are known
         if self.get_memo.holds(vrs) {
             let loads = node_loads(self.outputs()?);
-            for r in self.get_memo.runs() {
-                let (to, from) = (out.get_mut(r.at..r.at + r.len), loads.get(r.slot..));
-                if let (Some(to), Some(from)) = (to, from.and_then(|x| x.get(..r.len))) {
-                    to.copy_from_slice(from);
+            match self.get_memo.runs() {
+                Some(runs) => {
+                    for r in runs {
+                        let (to, from) = (out.get_mut(r.at..r.at + r.len), loads.get(r.slot..));
+                        if let (Some(to), Some(from)) = (to, from.and_then(|x| x.get(..r.len))) {
+                            to.copy_from_slice(from);
+                        }
+                    }
+                }
+                None => {
+                    for (&l, slot) in self.get_memo.slots().iter().zip(out.iter_mut()) {
+                        *slot = loads.get(l as usize).copied().unwrap_or(0.0);
+                    }
                 }
             }
             return Ok(());
