@@ -12,6 +12,9 @@
 /// node inputs, an orientation and its angular velocity, cost 35 instructions more as slices).
 const MIN_RUN: usize = 6;
 
+use crate::physics::kinematics::{centred, Centred, Singular};
+use crate::physics::math::{Mat3, Real};
+
 /// Values `at..at + len` of a remembered list belong to the slots `slot..slot + len`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct Run {
@@ -65,6 +68,39 @@ impl VrMemo {
                 _ => self.runs.push(Run { slot, at, len: 1 }),
             }
         }
+    }
+}
+
+/// The centred triad of the last directional derivative whose direction left both
+/// orientations alone, keyed by the frames and the torsion branch it was computed from (their
+/// bits): a linear-implicit master asks for the derivatives along every input at one point,
+/// and along positions and velocities the triad is the same constant each time.
+pub(super) struct TriadMemo {
+    key: [u64; 19],
+    cen: Centred,
+}
+
+impl TriadMemo {
+    /// `kinematics::centred(ra, rb, beta)`, from `memo` where it holds the same frames and
+    /// branch, else computed and remembered there.
+    pub(super) fn centred<'m>(
+        memo: &'m mut Option<TriadMemo>,
+        ra: &Mat3,
+        rb: &Mat3,
+        beta: Real,
+    ) -> Result<&'m Centred, Singular> {
+        let mut key = [0u64; 19];
+        for (k, x) in key.iter_mut().zip(ra.iter().chain(rb.iter())) {
+            *k = x.to_bits();
+        }
+        key[18] = beta.to_bits();
+        if memo.as_ref().is_some_and(|m| m.key == key) {
+            if let Some(m) = memo {
+                return Ok(&m.cen);
+            }
+        }
+        let cen = centred(ra, rb, beta)?;
+        Ok(&memo.insert(TriadMemo { key, cen }).cen)
     }
 }
 

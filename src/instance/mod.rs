@@ -21,10 +21,10 @@ use crate::model::variables::{table, Table, Variant};
 use crate::physics::connector::{evaluate_into, evaluate_pose, Outputs, State};
 use crate::physics::friction::Eval;
 use crate::physics::init::{initial_state, initial_state_at};
-use crate::physics::kinematics::{ConnectionType, Node, NodeDual, Pose, Singular};
+use crate::physics::kinematics::{constant, ConnectionType, Node, NodeDual, Pose, Singular};
 use crate::physics::math::{Dual, Real};
 use cache::OutputCache;
-use memo::VrMemo;
+use memo::{TriadMemo, VrMemo};
 
 #[cfg(test)]
 mod tangent_tests;
@@ -148,6 +148,8 @@ pub struct ModelInstance {
     /// The unknowns of the last directional derivative, with their rows in
     /// `access::continuous_row`.
     unknown_memo: VrMemo,
+    /// The centred triad of the last directional derivative along positions or velocities.
+    triad_memo: Option<TriadMemo>,
 }
 
 impl ModelInstance {
@@ -169,6 +171,7 @@ impl ModelInstance {
             set_memo: VrMemo::default(),
             get_memo: VrMemo::default(),
             unknown_memo: VrMemo::default(),
+            triad_memo: None,
         }
     }
 
@@ -330,7 +333,7 @@ impl ModelInstance {
     /// status here. Written in place, like the step's outputs: an `Outputs<Dual>` is over a
     /// kilobyte, and returning it by value copied it three times per derivative.
     fn tangent_into(
-        &self,
+        &mut self,
         seed: &[PoseTwist; 2],
         mode: Eval,
         o: &mut Outputs<Dual>,
@@ -349,8 +352,17 @@ impl ModelInstance {
         } else {
             self.s.state.lift()
         };
+        // a direction that leaves both orientations alone leaves the centred triad alone: the
+        // same for every such direction at this point (`TriadMemo`)
+        let known = if self.ct.centred() && constant(&pose.ra) && constant(&pose.rb) {
+            let (ra, rb) = (pose.ra.map(|x| x.re), pose.rb.map(|x| x.re));
+            let beta = st.branches.beta;
+            Some(TriadMemo::centred(&mut self.triad_memo, &ra, &rb, beta).map_err(singular_error)?)
+        } else {
+            None
+        };
         let mut next = State::default();
-        evaluate_pose(self.ct, p, &st, &pose, mode, (o, &mut next)).map_err(singular_error)
+        evaluate_pose(self.ct, p, &st, &pose, known, mode, (o, &mut next)).map_err(singular_error)
     }
 
     /// Outputs at the current inputs and committed state, cached until something changes.

@@ -537,6 +537,12 @@ pub struct Centred<T: Scalar = Real> {
     pub b: Mat3<T>,
 }
 
+/// Whether a frame is a constant along the seeded direction (every derivative exactly 0).
+#[inline]
+pub fn constant<T: Scalar>(m: &Mat3<T>) -> bool {
+    m.iter().all(|x| x.eps() == 0.0)
+}
+
 impl Centred {
     /// The same triad in any scalar, as a constant (no derivative).
     fn lift<T: Scalar>(&self) -> Centred<T> {
@@ -677,7 +683,7 @@ pub fn geometry(
     prev: &Branches,
 ) -> Result<Geometry, Singular> {
     let mut g = Geometry::blank();
-    geometry_into(ct, &Pose::of(a, b), prev, &mut g)?;
+    geometry_into(ct, &Pose::of(a, b), prev, None, &mut g)?;
     Ok(g)
 }
 
@@ -686,6 +692,10 @@ pub fn geometry(
 /// has a gradient of its own, zero at the factored slots otherwise; `tri_a` zero when the
 /// triad is node a's frame, `k` zero without FLEXION-TORSION); on an error its contents are
 /// unspecified.
+///
+/// `known`: the centred triad of this pose's orientations (`centred` in Real, at `prev.beta`),
+/// where the caller has it; read only where the orientations are constants along the seeded
+/// direction (`constant`), so in `Real` never.
 ///
 /// A caller that starts from `Geometry::blank()` (all zero) lets the compiler drop that
 /// zeroing where this function overwrites it: with the connection type a constant, every store
@@ -696,6 +706,7 @@ pub fn geometry_into<T: Scalar>(
     ct: ConnectionType,
     pose: &Pose<T>,
     prev: &Branches,
+    known: Option<&Centred>,
     g: &mut Geometry<T>,
 ) -> Result<(), Singular> {
     let (ra, rb, d) = (pose.ra, pose.rb, pose.d);
@@ -717,11 +728,13 @@ pub fn geometry_into<T: Scalar>(
     g.k = Mat3::zeros();
     if ct.centred() {
         // a direction that leaves both orientations alone (a seed on positions or velocities)
-        // leaves the triad alone too: computed in Real, the same values, and lifted
-        let constant = |m: &Mat3<T>| m.iter().all(|x| x.eps() == 0.0);
+        // leaves the triad alone too: the caller's (`known`) or computed in Real (the same
+        // values), lifted
         let cen = if T::DUAL && constant(&ra) && constant(&rb) {
-            let re = |m: &Mat3<T>| m.map(|x| x.re());
-            centred(&re(&ra), &re(&rb), prev.beta)?.lift()
+            match known {
+                Some(c) => c.lift(),
+                None => centred(&ra.map(|x| x.re()), &rb.map(|x| x.re()), prev.beta)?.lift(),
+            }
         } else {
             centred(&ra, &rb, prev.beta)?
         };
