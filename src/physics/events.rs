@@ -19,7 +19,7 @@
 //! does not find the same event again.
 
 use super::connector::{Outputs, Params, State};
-use super::friction::{normal_loads, stick_slip_function, FrictionParams, Status};
+use super::friction::{normal_loads, stick_slip_function, FrictionParams, FrictionState, Status};
 use super::kinematics::{ConnectionType, Role, Rotational};
 use super::math::Real;
 
@@ -243,20 +243,59 @@ pub fn bits(mask: u32) -> impl Iterator<Item = usize> {
     })
 }
 
-/// Whether `values` from the states `a` and `b` are the same for the same outputs: the
-/// functions taking part follow the stop and friction statuses, and their values depend on
-/// the state only through a sticking effect's plastic slip (unchanged while it sticks) and a
-/// slipping effect's force (which moves: then not).
+/// The slip → stick functions of the slipping effects (`values_on`): the slip power of the
+/// committed friction force `fs.force` at the slip rates `rate`, positive while the slip goes on.
+#[inline(always)]
+fn slip_stick(coupled: bool, fs: &FrictionState, rate: [Real; 3], v: &mut Taking) {
+    let [f2, f3, m1] = fs.force;
+    let (slide, spin) = (rate[0] * f2 + rate[1] * f3, rate[2] * m1);
+    if fs.status == Status::Slip {
+        v.put(SLIP_STICK, if coupled { slide + spin } else { slide });
+    }
+    if fs.status_r1 == Status::Slip && !coupled {
+        v.put(SLIP_STICK + 1, spin);
+    }
+}
+
+/// Turns `v = values_on(ct, p, a, o)` into `values_on(ct, p, b, o)` for the same outputs and
+/// another state `b` (a substep's start and end state: the next substep starts from `b`), in
+/// place. The functions taking part follow the stop and friction statuses, and their values
+/// depend on the state only through a sticking effect's plastic slip and a slipping effect's
+/// force: with the same statuses and plastic slips only the slip → stick functions are
+/// evaluated again (the same operations as `values_on`, so the same bits); otherwise all.
 #[inline]
-pub fn same_values(a: &State, b: &State) -> bool {
+pub fn values_after(
+    ct: ConnectionType,
+    p: &Params,
+    (a, b): (&State, &State),
+    o: &Outputs,
+    v: &mut Taking,
+) {
     let (fa, fb) = (&a.friction, &b.friction);
-    a.stop_status == b.stop_status
+    // a sticking effect's function reads its plastic slip (coupled: the sliding one stands
+    // for both and reads all of it); a slipping effect's plastic slip moves, but no function
+    // of it reads that
+    let coupled = p.friction.coupling == 1;
+    let sticks = |s: Status| matches!(s, Status::Stick | Status::NoNormal);
+    let (sliding, spin) = (
+        fa.slip_plastic == fb.slip_plastic,
+        fa.slip_plastic_r1 == fb.slip_plastic_r1,
+    );
+    let plastic = (!sticks(fb.status) || (sliding && (spin || !coupled)))
+        && (!sticks(fb.status_r1) || coupled || spin);
+    let same = a.stop_status == b.stop_status
         && fa.status == fb.status
         && fa.status_r1 == fb.status_r1
-        && fa.status != Status::Slip
-        && fa.status_r1 != Status::Slip
-        && fa.slip_plastic == fb.slip_plastic
-        && fa.slip_plastic_r1 == fb.slip_plastic_r1
+        && plastic;
+    if !same {
+        *v = values_on(ct, p, b, o);
+        return;
+    }
+    let slipping = fb.status == Status::Slip || fb.status_r1 == Status::Slip;
+    if slipping && ct.rot == Rotational::Revolute && p.friction.enabled() {
+        let rate = [o.cv[1], o.cv[2], o.cv[3]];
+        slip_stick(p.friction.coupling == 1, fb, rate, v);
+    }
 }
 
 /// Locates the root of event function `i` on [ta, tb], where `fa` lies on one side and `fb`

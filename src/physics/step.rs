@@ -355,7 +355,7 @@ pub fn advance_into(
         let s: &State = if j == 1 { st } else { prev.insert(*next) };
         substep(s, (tau, dt), (&a, &b), o, next)?;
         if let Some(track) = track {
-            let end = values_on(ct, p, s, o);
+            let mut end = values_on(ct, p, s, o);
             let mut crossed = crossed_on(own_start.as_ref().unwrap_or(track.start), &end.v, end.on);
             if j == 1 && !track.exact && crossed != 0 {
                 // the assumed sides at τ = 0 say a function crossed: take the exact values
@@ -408,17 +408,13 @@ pub fn advance_into(
                 }
             }
             met.count += crossed.count_ones();
-            // the next substep's start: these values, with the activity of the state it
-            // starts from (the same unless a status changed)
-            let next_start = if events::same_values(s, next) {
-                end
-            } else {
-                values_on(ct, p, next, o)
-            };
+            // the next substep's start: these values, made those of the state it starts from
+            // (its activity and friction forces: `events::values_after`)
+            events::values_after(ct, p, (s, next), o, &mut end);
             if j == n {
-                (met.end, met.end_on) = (next_start.v, next_start.on);
+                (met.end, met.end_on) = (end.v, end.on);
             } else {
-                own_start = Some(next_start.v);
+                own_start = Some(end.v);
             }
         }
         if j == n {
