@@ -458,3 +458,68 @@ fn values_on_marks_exactly_the_functions_taking_part() {
     // every function took part somewhere
     assert_eq!(seen, (1 << N_EVENTS) - 1, "functions seen {seen:025b}");
 }
+
+/// `values_after` turns the values of a substep's start state into those of its end state
+/// (the next substep's start) bit for bit, `on` included: over stop and friction statuses that
+/// stay or change, plastic slips that move (sliding, spin) or not, and friction forces that
+/// move, coupled and not.
+#[test]
+fn values_after_gives_the_values_of_the_state_the_next_substep_starts_from() {
+    let mut checked = 0;
+    let mut shortcuts = 0;
+    for spec in connector_fmu::variables::VARIANTS {
+        let (v, ct) = (spec.variant, spec.connection);
+        for (coupling, f_int, m_int) in [(0, 5.0, 1.0), (1, 5.0, 0.0), (0, -3.0, -2.0)] {
+            let mut p = puck(0.4, f_int, 1e5);
+            p.friction.m_int = m_int;
+            p.friction.coupling = coupling;
+            p.stop.c = 10.0;
+            p.stop.c_rot = 1.0;
+            p.stop_upper = [0.05; 6];
+            p.stop_lower = [-0.05; 6];
+            let a = node(Vec3::zeros(), Vec3::zeros());
+            let b = node(Vec3::new(0.01, 0.02, 0.03), Vec3::new(0.1, 0.2, 0.3));
+            let Ok(st0) = initial_state(ct, &p, &a, &b) else {
+                continue;
+            };
+            let (o, _) = evaluate(ct, &p, &st0, &a, &b, Eval::Read).expect("regular");
+            let statuses = [Status::Stick, Status::Slip, Status::NoNormal];
+            for (s0, s1) in statuses
+                .iter()
+                .flat_map(|x| statuses.iter().map(move |y| (*x, *y)))
+            {
+                for stops in [(0, 0), (1, 1), (0, -1)] {
+                    for moved in 0..4 {
+                        let mut sa = st0;
+                        sa.stop_status = [stops.0; 6];
+                        (sa.friction.status, sa.friction.status_r1) = (s0, s1);
+                        sa.friction.force = [1.0, -2.0, 0.5];
+                        let mut sb = sa;
+                        sb.stop_status = [stops.1; 6];
+                        match moved {
+                            1 => sb.friction.slip_plastic[1] += 1e-3,
+                            2 => sb.friction.slip_plastic_r1 += 1e-3,
+                            3 => sb.friction.status_r1 = s0,
+                            _ => {}
+                        }
+                        sb.friction.force = [3.0, 1.0, -0.25];
+                        let mut t = events::values_on(ct, &p, &sa, &o);
+                        let before = t.v;
+                        events::values_after(ct, &p, (&sa, &sb), &o, &mut t);
+                        let want = events::values_on(ct, &p, &sb, &o);
+                        let what = format!("{v:?} {s0:?}/{s1:?} stops {stops:?} moved {moved}");
+                        assert_eq!(t.v.map(f64::to_bits), want.v.map(f64::to_bits), "{what}");
+                        assert_eq!(t.on, want.on, "{what}");
+                        shortcuts += usize::from(stops.0 == stops.1 && t.v != before);
+                        checked += 1;
+                    }
+                }
+            }
+        }
+    }
+    assert!(checked > 500, "{checked} cases");
+    assert!(
+        shortcuts > 0,
+        "no slip → stick function was evaluated again"
+    );
+}
