@@ -271,6 +271,13 @@ pub fn values_after(
     o: &Outputs,
     v: &mut Taking,
 ) {
+    if ct.rot != Rotational::Revolute || !p.friction.enabled() {
+        // no friction functions: the stop statuses alone decide which functions take part
+        if a.stop_status != b.stop_status {
+            *v = values_on(ct, p, b, o);
+        }
+        return;
+    }
     let (fa, fb) = (&a.friction, &b.friction);
     // a sticking effect's function reads its plastic slip (coupled: the sliding one stands
     // for both and reads all of it); a slipping effect's plastic slip moves, but no function
@@ -291,8 +298,7 @@ pub fn values_after(
         *v = values_on(ct, p, b, o);
         return;
     }
-    let slipping = fb.status == Status::Slip || fb.status_r1 == Status::Slip;
-    if slipping && ct.rot == Rotational::Revolute && p.friction.enabled() {
+    if fb.status == Status::Slip || fb.status_r1 == Status::Slip {
         let rate = [o.cv[1], o.cv[2], o.cv[3]];
         slip_stick(p.friction.coupling == 1, fb, rate, v);
     }
