@@ -6,14 +6,18 @@
 //! A list is also kept as runs of consecutive slots: an importer lists a node's inputs (or
 //! the loads) in the order of the model description, so the values move as a few slices
 //! (`Run`) instead of one by one through the slot table.
-
-/// Shortest mean run worth moving as slices: a slice copy of unknown length is a call to
-/// memcpy, which costs more than a short run's values one by one (callgrind: four runs of 3–4
-/// node inputs, an orientation and its angular velocity, cost 35 instructions more as slices).
-const MIN_RUN: usize = 6;
+//!
+//! Also the centred triad of the last directional derivative along a position or a velocity
+//! (`TriadMemo`): the same for all of them at one point.
 
 use crate::physics::kinematics::{centred, Centred, Singular};
 use crate::physics::math::{Mat3, Real};
+
+/// Shortest mean run worth moving as slices: a slice copy of unknown length is a call to
+/// memcpy, which costs more than a short run's values one by one (callgrind: the four runs of
+/// 3–4 node inputs of PROJECTION FLEXION-TORSION, an orientation and an angular velocity per
+/// node, cost 46 instructions more per round as slices).
+const MIN_RUN: usize = 6;
 
 /// Values `at..at + len` of a remembered list belong to the slots `slot..slot + len`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -94,6 +98,8 @@ impl TriadMemo {
             *k = x.to_bits();
         }
         key[18] = beta.to_bits();
+        // looked at twice: a reference returned from a match on `memo` would keep it borrowed
+        // for the insert below
         if memo.as_ref().is_some_and(|m| m.key == key) {
             if let Some(m) = memo {
                 return Ok(&m.cen);

@@ -177,14 +177,10 @@ pub fn values_on(ct: ConnectionType, p: &Params, st: &State, o: &Outputs) -> Tak
             }
         }
     }
-    // slip power of the committed friction force: positive while the slip goes on
-    let [f2, f3, m1] = fs.force;
-    let (slide, spin) = (rate[0] * f2 + rate[1] * f3, rate[2] * m1);
-    if statuses[0] == Status::Slip {
-        v.put(SLIP_STICK, if coupled { slide + spin } else { slide });
-    }
-    if statuses[1] == Status::Slip && !coupled {
-        v.put(SLIP_STICK + 1, spin);
+    for (e, x) in slip_power(coupled, fs, rate).into_iter().enumerate() {
+        if let Some(x) = x {
+            v.put(SLIP_STICK + e, x);
+        }
     }
     // the normal loads pass through zero: through CRF1 when nothing else loads them (no
     // preload; bending only adds), through F_C + F_int or M_R1 + M_int with a negative preload
@@ -243,26 +239,26 @@ pub fn bits(mask: u32) -> impl Iterator<Item = usize> {
     })
 }
 
-/// The slip → stick functions of the slipping effects (`values_on`): the slip power of the
-/// committed friction force `fs.force` at the slip rates `rate`, positive while the slip goes on.
+/// The slip → stick functions of the slipping effects, sliding (or coupled) and spin (None:
+/// not slipping): the slip power of the committed friction force `fs.force` at the slip rates
+/// `rate`, positive while the slip goes on.
 #[inline(always)]
-fn slip_stick(coupled: bool, fs: &FrictionState, rate: [Real; 3], v: &mut Taking) {
+fn slip_power(coupled: bool, fs: &FrictionState, rate: [Real; 3]) -> [Option<Real>; 2] {
     let [f2, f3, m1] = fs.force;
     let (slide, spin) = (rate[0] * f2 + rate[1] * f3, rate[2] * m1);
-    if fs.status == Status::Slip {
-        v.put(SLIP_STICK, if coupled { slide + spin } else { slide });
-    }
-    if fs.status_r1 == Status::Slip && !coupled {
-        v.put(SLIP_STICK + 1, spin);
-    }
+    [
+        (fs.status == Status::Slip).then_some(if coupled { slide + spin } else { slide }),
+        (fs.status_r1 == Status::Slip && !coupled).then_some(spin),
+    ]
 }
 
 /// Turns `v = values_on(ct, p, a, o)` into `values_on(ct, p, b, o)` for the same outputs and
 /// another state `b` (a substep's start and end state: the next substep starts from `b`), in
 /// place. The functions taking part follow the stop and friction statuses, and their values
 /// depend on the state only through a sticking effect's plastic slip and a slipping effect's
-/// force: with the same statuses and plastic slips only the slip → stick functions are
-/// evaluated again (the same operations as `values_on`, so the same bits); otherwise all.
+/// force: with the same statuses and the sticking effects' plastic slips unchanged only the
+/// slip → stick functions are evaluated again (the same operations as `values_on`, so the same
+/// bits); otherwise all of them.
 #[inline]
 pub fn values_after(
     ct: ConnectionType,
@@ -300,7 +296,11 @@ pub fn values_after(
     }
     if fb.status == Status::Slip || fb.status_r1 == Status::Slip {
         let rate = [o.cv[1], o.cv[2], o.cv[3]];
-        slip_stick(p.friction.coupling == 1, fb, rate, v);
+        for (e, x) in slip_power(coupled, fb, rate).into_iter().enumerate() {
+            if let Some(x) = x {
+                v.put(SLIP_STICK + e, x);
+            }
+        }
     }
 }
 
