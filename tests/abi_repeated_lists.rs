@@ -142,6 +142,29 @@ fn a_repeated_load_list_reads_the_current_loads() {
     }
 }
 
+/// An initialised instance with a spring and a damper on every component.
+fn springs_and_dampers(v: Variant) -> Fmu {
+    let f = Fmu::new(v);
+    for k in 1..=6 {
+        f.set_real_if(&format!("elasticity.k{k}"), 100.0 * k as f64);
+        f.set_real_if(&format!("damping.c{k}"), 1.0 + k as f64);
+    }
+    f.init();
+    f
+}
+
+/// The variant's continuous Real outputs (every unknown a directional derivative takes).
+fn continuous_outputs(v: Variant) -> Vec<u32> {
+    table(v)
+        .vars
+        .iter()
+        .filter(|x| x.causality == Causality::Output)
+        .filter(|x| x.variability == Variability::Continuous)
+        .filter(|x| matches!(x.start, Start::Real(_)))
+        .map(|x| x.vr)
+        .collect()
+}
+
 /// J·δ for the unknowns `u` along one known `k` (seed 1), with the call's status.
 fn derivative(f: &Fmu, u: &[u32], k: u32) -> (fmi2Status, Vec<f64>) {
     let mut out = vec![f64::NAN; u.len()];
@@ -153,24 +176,12 @@ fn derivative(f: &Fmu, u: &[u32], k: u32) -> (fmi2Status, Vec<f64>) {
 fn a_repeated_unknown_list_gives_each_unknown_its_own_derivative() {
     for spec in VARIANTS {
         let v = spec.variant;
-        let f = Fmu::new(v);
-        for k in 1..=6 {
-            f.set_real_if(&format!("elasticity.k{k}"), 100.0 * k as f64);
-            f.set_real_if(&format!("damping.c{k}"), 1.0 + k as f64);
-        }
-        f.init();
+        let f = springs_and_dampers(v);
         let inputs = node_inputs(v);
         let vrs: Vec<u32> = inputs.iter().map(|(vr, _)| *vr).collect();
         assert_eq!(set(&f, &vrs, &values_for(&inputs, 0.02)), fmi2Status::OK);
         assert_eq!(f.step(0.0, 1e-3), fmi2Status::OK, "{v:?}: {:?}", f.log());
-        let unknowns: Vec<u32> = table(v)
-            .vars
-            .iter()
-            .filter(|x| x.causality == Causality::Output)
-            .filter(|x| x.variability == Variability::Continuous)
-            .filter(|x| matches!(x.start, Start::Real(_)))
-            .map(|x| x.vr)
-            .collect();
+        let unknowns = continuous_outputs(v);
         // the unknowns one at a time: each its own list (the reference)
         let one_by_one = |k: u32| -> Vec<f64> {
             unknowns
@@ -231,26 +242,10 @@ fn what_was_asked_before_does_not_change_a_derivative() {
     // points), the other only at the end: the same bits.
     for spec in VARIANTS {
         let v = spec.variant;
-        let new = || {
-            let f = Fmu::new(v);
-            for k in 1..=6 {
-                f.set_real_if(&format!("elasticity.k{k}"), 100.0 * k as f64);
-                f.set_real_if(&format!("damping.c{k}"), 1.0 + k as f64);
-            }
-            f.init();
-            f
-        };
-        let (asked, fresh) = (new(), new());
+        let (asked, fresh) = (springs_and_dampers(v), springs_and_dampers(v));
         let inputs = node_inputs(v);
         let vrs: Vec<u32> = inputs.iter().map(|(vr, _)| *vr).collect();
-        let unknowns: Vec<u32> = table(v)
-            .vars
-            .iter()
-            .filter(|x| x.causality == Causality::Output)
-            .filter(|x| x.variability == Variability::Continuous)
-            .filter(|x| matches!(x.start, Start::Real(_)))
-            .map(|x| x.vr)
-            .collect();
+        let unknowns = continuous_outputs(v);
         let jacobian = |f: &Fmu| -> Vec<Vec<u64>> {
             vrs.iter()
                 .take(13)

@@ -402,6 +402,29 @@ fn far_needs_every_function_beyond_eight_steps_of_change() {
     );
 }
 
+/// Damped stops at ±0.05 on every slot and friction (μ 0.4, stick stiffness 1e5) with the
+/// preloads `f_int`, `m_int`, coupled or not.
+fn stops_and_friction(coupling: i32, f_int: f64, m_int: f64) -> Params {
+    let mut p = puck(0.4, f_int, 1e5);
+    p.friction.m_int = m_int;
+    p.friction.coupling = coupling;
+    p.stop.c = 10.0;
+    p.stop.c_rot = 1.0;
+    p.stop_upper = [0.05; 6];
+    p.stop_lower = [-0.05; 6];
+    p
+}
+
+/// The initial state and the outputs read there, node b offset and moving from node a at rest
+/// (None where the connection type refuses the pose).
+fn read_at_an_offset(ct: ConnectionType, p: &Params) -> Option<(State, Outputs)> {
+    let a = node(Vec3::zeros(), Vec3::zeros());
+    let b = node(Vec3::new(0.01, 0.02, 0.03), Vec3::new(0.1, 0.2, 0.3));
+    let st0 = initial_state(ct, p, &a, &b).ok()?;
+    let (o, _) = evaluate(ct, p, &st0, &a, &b, Eval::Read).expect("regular");
+    Some((st0, o))
+}
+
 /// `values_on` marks every function that takes part (`crossed_on` and `far_on` compare only
 /// those; a marked one may still be NaN, e.g. a stick → slip function of an artificial state
 /// here, which both treat as not taking part): over stops on every slot of every variant free
@@ -416,19 +439,10 @@ fn values_on_marks_exactly_the_functions_taking_part() {
         for (coupling, f_int, m_int) in
             [(0, 0.0, 0.0), (1, 5.0, 0.0), (0, -3.0, -2.0), (1, 0.0, 4.0)]
         {
-            let mut p = puck(0.4, f_int, 1e5);
-            p.friction.m_int = m_int;
-            p.friction.coupling = coupling;
-            p.stop.c = 10.0;
-            p.stop.c_rot = 1.0;
-            p.stop_upper = [0.05; 6];
-            p.stop_lower = [-0.05; 6];
-            let a = node(Vec3::zeros(), Vec3::zeros());
-            let b = node(Vec3::new(0.01, 0.02, 0.03), Vec3::new(0.1, 0.2, 0.3));
-            let Ok(st0) = initial_state(ct, &p, &a, &b) else {
+            let p = stops_and_friction(coupling, f_int, m_int);
+            let Some((st0, o)) = read_at_an_offset(ct, &p) else {
                 continue;
             };
-            let (o, _) = evaluate(ct, &p, &st0, &a, &b, Eval::Read).expect("regular");
             for status in [-1, 0, 1] {
                 for fs in [Status::Stick, Status::Slip, Status::NoNormal] {
                     let mut st = st0;
@@ -470,19 +484,10 @@ fn values_after_gives_the_values_of_the_state_the_next_substep_starts_from() {
     for spec in connector_fmu::variables::VARIANTS {
         let (v, ct) = (spec.variant, spec.connection);
         for (coupling, f_int, m_int) in [(0, 5.0, 1.0), (1, 5.0, 0.0), (0, -3.0, -2.0)] {
-            let mut p = puck(0.4, f_int, 1e5);
-            p.friction.m_int = m_int;
-            p.friction.coupling = coupling;
-            p.stop.c = 10.0;
-            p.stop.c_rot = 1.0;
-            p.stop_upper = [0.05; 6];
-            p.stop_lower = [-0.05; 6];
-            let a = node(Vec3::zeros(), Vec3::zeros());
-            let b = node(Vec3::new(0.01, 0.02, 0.03), Vec3::new(0.1, 0.2, 0.3));
-            let Ok(st0) = initial_state(ct, &p, &a, &b) else {
+            let p = stops_and_friction(coupling, f_int, m_int);
+            let Some((st0, o)) = read_at_an_offset(ct, &p) else {
                 continue;
             };
-            let (o, _) = evaluate(ct, &p, &st0, &a, &b, Eval::Read).expect("regular");
             let statuses = [Status::Stick, Status::Slip, Status::NoNormal];
             for (s0, s1) in statuses
                 .iter()

@@ -27,6 +27,23 @@ pub(super) struct Run {
     pub len: usize,
 }
 
+/// Copies every run from `from` into `to`: run r's values start at `from_at(r)` in `from` and
+/// go to `to_at(r)` in `to` (a set writes the list's values into their slots, a get reads them
+/// from their slots into the list's order).
+#[inline]
+pub(super) fn copy_runs(
+    runs: &[Run],
+    (to, to_at): (&mut [Real], fn(&Run) -> usize),
+    (from, from_at): (&[Real], fn(&Run) -> usize),
+) {
+    for r in runs {
+        let (t, f) = (to_at(r), from_at(r));
+        if let (Some(to), Some(from)) = (to.get_mut(t..t + r.len), from.get(f..f + r.len)) {
+            to.copy_from_slice(from);
+        }
+    }
+}
+
 /// A VR list and the slot each VR resolved to (`RealTables::input_index`, `load_index` or
 /// `continuous_index`), also as runs.
 #[derive(Default)]

@@ -1,6 +1,7 @@
 //! Get and set through the variable table: every value reference and type is checked, and a
 //! set call is all or nothing (a rejected value leaves the instance as it was).
 
+use super::memo::copy_runs;
 use super::{Call, FmiVersion, ModelInstance};
 use crate::error::{FmuError, FmuResult};
 use crate::model::access::{
@@ -128,14 +129,7 @@ impl ModelInstance {
         if self.set_memo.holds(vrs) && all_finite(values) {
             let flat = self.s.inputs.as_flattened_mut();
             match self.set_memo.runs() {
-                Some(runs) => {
-                    for r in runs {
-                        let (to, from) = (flat.get_mut(r.slot..r.slot + r.len), values.get(r.at..));
-                        if let (Some(to), Some(from)) = (to, from.and_then(|x| x.get(..r.len))) {
-                            to.copy_from_slice(from);
-                        }
-                    }
-                }
+                Some(runs) => copy_runs(runs, (flat, |r| r.slot), (values, |r| r.at)),
                 None => {
                     for (&j, &x) in self.set_memo.slots().iter().zip(values) {
                         if let Some(u) = flat.get_mut(j as usize) {
@@ -244,14 +238,7 @@ impl ModelInstance {
         if self.get_memo.holds(vrs) {
             let loads = node_loads(self.outputs()?);
             match self.get_memo.runs() {
-                Some(runs) => {
-                    for r in runs {
-                        let (to, from) = (out.get_mut(r.at..r.at + r.len), loads.get(r.slot..));
-                        if let (Some(to), Some(from)) = (to, from.and_then(|x| x.get(..r.len))) {
-                            to.copy_from_slice(from);
-                        }
-                    }
-                }
+                Some(runs) => copy_runs(runs, (out, |r| r.at), (&loads, |r| r.slot)),
                 None => {
                     for (&l, slot) in self.get_memo.slots().iter().zip(out.iter_mut()) {
                         *slot = loads.get(l as usize).copied().unwrap_or(0.0);
