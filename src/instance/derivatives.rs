@@ -1,12 +1,12 @@
 //! Input derivatives (for the next step's extrapolation) and directional derivatives.
 
+use super::memo::copy_runs;
 use super::{Call, ModelInstance};
 use crate::error::{FmuError, FmuResult};
-use crate::model::access::{continuous_row, Ty};
+use crate::model::access::{continuous_row_map, Ty};
 use crate::model::slots::NO_INDEX;
 use crate::model::snapshot::{NODE_INPUTS, POSE_TWIST};
 use crate::model::variables::{Causality, Table, Variability};
-use crate::physics::connector::Outputs;
 use crate::physics::friction::Eval;
 use crate::physics::math::{all_finite, Real};
 
@@ -107,13 +107,19 @@ impl ModelInstance {
         // effects slipping at the current inputs are differentiated on their slip branch
         let here = self.outputs()?.friction;
         let mode = Eval::Tangent([here.status, here.status_r1]);
-        let mut o = Outputs::default();
-        self.tangent_into(&seed, mode, &mut o)?;
-        let row = continuous_row(&o);
-        // the remembered rows (all within the row), then whether every value is finite (in
-        // one vectorised pass; the first that is not is named)
-        for (&r, slot) in self.unknown_memo.slots().iter().zip(out.iter_mut()) {
-            *slot = row.get(r as usize).map_or(0.0, |x| dmax * x.eps);
+        self.tangent_into(&seed, mode)?;
+        // the derivatives of every continuous output, scaled back; the remembered rows (all
+        // within the row) as slices where they run in the row's order (the usual list: the
+        // model description's), then whether every value is finite (in one vectorised pass;
+        // the first that is not is named)
+        let row = continuous_row_map(&self.tangent.o, |x| dmax * x.eps);
+        match self.unknown_memo.runs() {
+            Some(runs) => copy_runs(runs, (out, |r| r.at), (&row, |r| r.slot)),
+            None => {
+                for (&r, slot) in self.unknown_memo.slots().iter().zip(out.iter_mut()) {
+                    *slot = row.get(r as usize).copied().unwrap_or(0.0);
+                }
+            }
         }
         if !all_finite(&out[..unknowns.len().min(out.len())]) {
             return Err(not_finite_error(self.table, unknowns, out, dmax));

@@ -150,6 +150,18 @@ pub struct ModelInstance {
     unknown_memo: VrMemo,
     /// The centred triad of the last directional derivative along positions or velocities.
     triad_memo: Option<TriadMemo>,
+    /// Where a directional derivative evaluates the kernel in `Dual`.
+    tangent: Box<TangentBuffers>,
+}
+
+/// The outputs and next state of a directional derivative's evaluation in `Dual`, kept with
+/// the instance: the evaluation overwrites every field of both, so they need no clearing
+/// between calls (fresh ones cost a memset of each, over two kilobytes per call, and an
+/// `Outputs<Dual>` returned by value was copied three times).
+#[derive(Default)]
+struct TangentBuffers {
+    o: Outputs<Dual>,
+    next: State<Dual>,
 }
 
 impl ModelInstance {
@@ -172,6 +184,7 @@ impl ModelInstance {
             get_memo: VrMemo::default(),
             unknown_memo: VrMemo::default(),
             triad_memo: None,
+            tangent: Box::default(),
         }
     }
 
@@ -329,15 +342,10 @@ impl ModelInstance {
     /// The outputs with their exact derivatives along the direction `seed` of the inputs
     /// (forward-mode, `math::Dual`), at the current inputs and committed state (in
     /// initialization: with the state the instance would start from, which moves with the
-    /// inputs), written into `o`. `mode` is `Eval::Tangent`: friction on the branch of its
-    /// status here. Written in place, like the step's outputs: an `Outputs<Dual>` is over a
-    /// kilobyte, and returning it by value copied it three times per derivative.
-    fn tangent_into(
-        &mut self,
-        seed: &[PoseTwist; 2],
-        mode: Eval,
-        o: &mut Outputs<Dual>,
-    ) -> FmuResult<()> {
+    /// inputs), written into `self.tangent.o`. `mode` is `Eval::Tangent`: friction on the
+    /// branch of its status here. Written in place, like the step's outputs (see
+    /// `TangentBuffers`).
+    fn tangent_into(&mut self, seed: &[PoseTwist; 2], mode: Eval) -> FmuResult<()> {
         let u = &self.s.inputs;
         let mut dual: [NodeDual; 2] = [[Dual::default(); POSE_TWIST]; 2];
         for ((d, u), s) in dual.iter_mut().zip(u).zip(seed) {
@@ -361,8 +369,8 @@ impl ModelInstance {
         } else {
             None
         };
-        let mut next = State::default();
-        evaluate_pose(self.ct, p, &st, &pose, known, mode, (o, &mut next)).map_err(singular_error)
+        let TangentBuffers { o, next } = &mut *self.tangent;
+        evaluate_pose(self.ct, p, &st, &pose, known, mode, (o, next)).map_err(singular_error)
     }
 
     /// Outputs at the current inputs and committed state, cached until something changes.

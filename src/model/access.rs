@@ -321,20 +321,38 @@ pub fn continuous_index(f: Field) -> Option<u8> {
 /// derivatives read the unknowns from it: one copy instead of a match per unknown).
 #[inline(always)]
 pub fn continuous_row<T: Scalar>(o: &Outputs<T>) -> [T; CONTINUOUS_LEN] {
-    let mut row = [T::zero(); CONTINUOUS_LEN];
-    let loads = [o.fa, o.ma, o.fb, o.mb];
-    for (j, v) in loads.iter().enumerate() {
-        row[3 * j..3 * j + 3].copy_from_slice(v.as_slice());
+    continuous_row_map(o, |x| x)
+}
+
+/// `continuous_row` with `f` applied to every value, written straight into the row (a
+/// directional derivative takes the derivatives of the `Dual` outputs, scaled: no row of duals
+/// and no copies of the outputs' arrays on the way).
+#[inline(always)]
+pub fn continuous_row_map<T: Scalar, U: Copy>(
+    o: &Outputs<T>,
+    f: impl Fn(T) -> U,
+) -> [U; CONTINUOUS_LEN] {
+    let mut row = [f(T::zero()); CONTINUOUS_LEN];
+    let mut put = |at: usize, xs: &[T]| {
+        for (r, &x) in row[at..at + xs.len()].iter_mut().zip(xs) {
+            *r = f(x);
+        }
+    };
+    for (j, v) in [&o.fa, &o.ma, &o.fb, &o.mb].into_iter().enumerate() {
+        put(3 * j, v.as_slice());
     }
-    let comps = [o.cp, o.cu, o.cv, o.ctf, o.cef, o.cvf, o.csf, o.crf];
-    for (j, c) in comps.iter().enumerate() {
-        row[12 + 6 * j..18 + 6 * j].copy_from_slice(c);
+    let comps = [&o.cp, &o.cu, &o.cv, &o.ctf, &o.cef, &o.cvf, &o.csf, &o.crf];
+    for (j, c) in comps.into_iter().enumerate() {
+        put(12 + 6 * j, c);
     }
     let (fr, e) = (&o.friction, &o.energy);
-    row[60..].copy_from_slice(&[
-        fr.cnf, fr.cnm1, fr.csfc, fr.csmc1, fr.slip, fr.slip_r1, e.stored, e.damping, e.friction,
-        e.stops,
-    ]);
+    put(
+        60,
+        &[
+            fr.cnf, fr.cnm1, fr.csfc, fr.csmc1, fr.slip, fr.slip_r1, e.stored, e.damping,
+            e.friction, e.stops,
+        ],
+    );
     row
 }
 
