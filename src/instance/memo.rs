@@ -7,11 +7,11 @@
 //! the loads) in the order of the model description, so the values move as a few slices
 //! (`Run`) instead of one by one through the slot table.
 //!
-//! Also the centred triad of the last directional derivative along a position or a velocity
-//! (`TriadMemo`): the same for all of them at one point.
+//! Also what a directional derivative's point fixes for every direction (`PointMemo`): the
+//! frames of the orientation inputs and the centred triad.
 
-use crate::physics::kinematics::{centred, Centred, Singular};
-use crate::physics::math::{Mat3, Real};
+use crate::physics::kinematics::{centred, frame_of_raw, Centred, Singular};
+use crate::physics::math::{Dual, Mat3, Real};
 
 /// Shortest mean run worth moving as slices: a slice copy of unknown length is a call to
 /// memcpy, which costs more than a short run's values one by one (callgrind: the four runs of
@@ -92,38 +92,52 @@ impl VrMemo {
     }
 }
 
-/// The centred triad of the last directional derivative whose direction left both
-/// orientations alone, keyed by the frames and the torsion branch it was computed from (their
-/// bits): a linear-implicit master asks for the derivatives along every input at one point,
-/// and along positions and velocities the triad is the same constant each time.
-pub(super) struct TriadMemo {
-    key: [u64; 19],
-    cen: Centred,
+/// What a directional derivative's point fixes, whatever the direction: the frames of its
+/// orientation inputs (Real), and the centred triad there at a torsion branch (lifted to
+/// `Dual`: the triad of every direction that leaves both orientations alone). A
+/// linear-implicit master asks for the derivatives along every input at one point, so these
+/// are computed once for all of them. Keyed by the bits of the raw quaternion inputs (and of
+/// the branch for the triad): the same bits give the same frames and triad.
+#[derive(Default)]
+pub(super) struct PointMemo {
+    /// The bits of the quaternion inputs (w, x, y, z of a, then of b) `frames` are of.
+    quats: Option<[u64; 8]>,
+    frames: [Mat3; 2],
+    /// The bits of the torsion branch the triad was computed at, and the triad.
+    triad: Option<(u64, Centred<Dual>)>,
 }
 
-impl TriadMemo {
-    /// `kinematics::centred(ra, rb, beta)`, from `memo` where it holds the same frames and
-    /// branch, else computed and remembered there.
-    pub(super) fn centred<'m>(
-        memo: &'m mut Option<TriadMemo>,
-        ra: &Mat3,
-        rb: &Mat3,
-        beta: Real,
-    ) -> Result<&'m Centred, Singular> {
-        let mut key = [0u64; 19];
-        for (k, x) in key.iter_mut().zip(ra.iter().chain(rb.iter())) {
+impl PointMemo {
+    /// The frames of the raw quaternion inputs `q` of nodes a and b (`kinematics::frame_of_raw`),
+    /// from the memo where it holds the same inputs, else computed and remembered (which
+    /// forgets the triad of other inputs).
+    pub(super) fn frames(&mut self, q: [[Real; 4]; 2]) -> &[Mat3; 2] {
+        let mut key = [0u64; 8];
+        for (k, x) in key.iter_mut().zip(q.iter().flat_map(|q| q.iter())) {
             *k = x.to_bits();
         }
-        key[18] = beta.to_bits();
-        // looked at twice: a reference returned from a match on `memo` would keep it borrowed
-        // for the insert below
-        if memo.as_ref().is_some_and(|m| m.key == key) {
-            if let Some(m) = memo {
-                return Ok(&m.cen);
-            }
+        if self.quats != Some(key) {
+            self.frames = [frame_of_raw(&q[0]), frame_of_raw(&q[1])];
+            self.quats = Some(key);
+            self.triad = None;
         }
-        let cen = centred(ra, rb, beta)?;
-        Ok(&memo.insert(TriadMemo { key, cen }).cen)
+        &self.frames
+    }
+
+    /// Makes the memo hold the centred triad of the frames last given (`frames`) at torsion
+    /// branch `beta` (`kinematics::centred`, lifted): computed unless it holds that branch.
+    pub(super) fn hold_triad(&mut self, beta: Real) -> Result<(), Singular> {
+        let key = beta.to_bits();
+        if self.triad.as_ref().is_none_or(|(k, _)| *k != key) {
+            let cen = centred(&self.frames[0], &self.frames[1], beta)?.lift();
+            self.triad = Some((key, cen));
+        }
+        Ok(())
+    }
+
+    /// The triad `hold_triad` made the memo hold.
+    pub(super) fn triad(&self) -> Option<&Centred<Dual>> {
+        self.triad.as_ref().map(|(_, cen)| cen)
     }
 }
 

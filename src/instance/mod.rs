@@ -24,7 +24,7 @@ use crate::physics::init::{initial_state, initial_state_at};
 use crate::physics::kinematics::{constant, ConnectionType, Node, NodeDual, Pose, Singular};
 use crate::physics::math::{Dual, Real};
 use cache::OutputCache;
-use memo::{TriadMemo, VrMemo};
+use memo::{PointMemo, VrMemo};
 
 #[cfg(test)]
 mod tangent_tests;
@@ -148,8 +148,8 @@ pub struct ModelInstance {
     /// The unknowns of the last directional derivative, with their rows in
     /// `access::continuous_row`.
     unknown_memo: VrMemo,
-    /// The centred triad of the last directional derivative along positions or velocities.
-    triad_memo: Option<TriadMemo>,
+    /// The frames and centred triad of the last directional derivative's point.
+    point_memo: PointMemo,
     /// Where a directional derivative evaluates the kernel in `Dual`.
     tangent: Box<TangentBuffers>,
 }
@@ -183,7 +183,7 @@ impl ModelInstance {
             set_memo: VrMemo::default(),
             get_memo: VrMemo::default(),
             unknown_memo: VrMemo::default(),
-            triad_memo: None,
+            point_memo: PointMemo::default(),
             tangent: Box::default(),
         }
     }
@@ -353,7 +353,9 @@ impl ModelInstance {
                 *d = Dual::new(u, s);
             }
         }
-        let pose = Pose::of_inputs(&dual[0], &dual[1]);
+        let quat = |n: usize| [u[n][3], u[n][4], u[n][5], u[n][6]];
+        let frames = self.point_memo.frames([quat(0), quat(1)]);
+        let pose = Pose::of_inputs(&dual[0], &dual[1], frames);
         let p = &self.s.params;
         let st = if self.s.mode == Mode::InitializationMode {
             initial_state_at(self.ct, p, &pose).map_err(singular_error)?
@@ -361,11 +363,11 @@ impl ModelInstance {
             self.s.state.lift()
         };
         // a direction that leaves both orientations alone leaves the centred triad alone: the
-        // same for every such direction at this point (`TriadMemo`)
+        // same for every such direction at this point (`PointMemo`)
         let known = if self.ct.centred() && constant(&pose.ra) && constant(&pose.rb) {
-            let (ra, rb) = (pose.ra.map(|x| x.re), pose.rb.map(|x| x.re));
-            let beta = st.branches.beta;
-            Some(TriadMemo::centred(&mut self.triad_memo, &ra, &rb, beta).map_err(singular_error)?)
+            let memo = &mut self.point_memo;
+            memo.hold_triad(st.branches.beta).map_err(singular_error)?;
+            memo.triad()
         } else {
             None
         };

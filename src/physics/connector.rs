@@ -279,7 +279,7 @@ pub fn evaluate_pose<T: Scalar>(
     p: &Params,
     st: &State<T>,
     pose: &Pose<T>,
-    known: Option<&Centred>,
+    known: Option<&Centred<T>>,
     mode: Eval,
     out: (&mut Outputs<T>, &mut State<T>),
 ) -> Result<(), Singular> {
@@ -314,7 +314,7 @@ fn evaluate_body<T: Scalar>(
     p: &Params,
     st: &State<T>,
     pose: &Pose<T>,
-    known: Option<&Centred>,
+    known: Option<&Centred<T>>,
     mode: Eval,
     (o, next): (&mut Outputs<T>, &mut State<T>),
 ) -> Result<(), Singular> {

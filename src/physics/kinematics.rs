@@ -218,35 +218,45 @@ impl Pose<super::math::Dual> {
     /// The pose of two nodes given as raw inputs with derivatives: the quaternions normalised
     /// as `math::quat_from_wxyz` does (its value; the derivative is that of q/|q|, which the
     /// inputs' round-off rule does not change), so the value is `Pose::of` of the same nodes
-    /// bit for bit.
-    pub fn of_inputs(a: &NodeDual, b: &NodeDual) -> Self {
+    /// bit for bit. `frames`: the frames of these orientation inputs in Real
+    /// (`frame_of_raw` of each), which a node whose orientation the direction leaves alone
+    /// takes as a constant.
+    pub fn of_inputs(a: &NodeDual, b: &NodeDual, frames: &[Mat3; 2]) -> Self {
         use super::math::{quat_from_wxyz, Dual};
-        let frame = |u: &NodeDual| {
+        let frame = |u: &NodeDual, known: &Mat3| {
             let q = [u[3], u[4], u[5], u[6]];
+            if q.iter().all(|x| x.eps == 0.0) {
+                // an orientation the direction leaves alone (every seed but its own): a
+                // constant frame
+                return known.map(|x| Dual::new(x, 0.0));
+            }
             // the value as the Real path reads it; a refused quaternion never gets here (the
             // inputs were checked when set), and would give NaN, which the caller refuses
             let unit = quat_from_wxyz(q[0].re, q[1].re, q[2].re, q[3].re)
                 .map_or([Real::NAN; 4], |x| [x.w, x.i, x.j, x.k]);
-            if q.iter().all(|x| x.eps == 0.0) {
-                // an orientation the direction leaves alone (every seed but its own): a
-                // constant frame, its value computed once in Real
-                let r: Mat3 = rotation_of(unit[0], unit[1], unit[2], unit[3]);
-                return r.map(|x| Dual::new(x, 0.0));
-            }
             let n = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt();
             let q: [Dual; 4] = std::array::from_fn(|i| Dual::new(unit[i], (q[i] / n).eps));
             rotation_of(q[0], q[1], q[2], q[3])
         };
         let v = |u: &NodeDual, i: usize| Vec3::new(u[i], u[i + 1], u[i + 2]);
         Pose {
-            ra: frame(a),
-            rb: frame(b),
+            ra: frame(a, &frames[0]),
+            rb: frame(b, &frames[1]),
             d: v(b, 0) - v(a, 0),
             dv: v(b, 7) - v(a, 7),
             wa: v(a, 10),
             wb: v(b, 10),
         }
     }
+}
+
+/// The frame of a node's raw orientation input (w, x, y, z), normalised as
+/// `math::quat_from_wxyz` reads it (the same bits as `Pose::of`'s frame of that node); NaN
+/// where it is no rotation (the setters refuse such an input).
+pub fn frame_of_raw(q: &[Real; 4]) -> Mat3 {
+    let unit = super::math::quat_from_wxyz(q[0], q[1], q[2], q[3])
+        .map_or([Real::NAN; 4], |x| [x.w, x.i, x.j, x.k]);
+    rotation_of(unit[0], unit[1], unit[2], unit[3])
 }
 
 /// Angle branches and remembered directions: kinematic state kept between evaluations.
@@ -545,7 +555,7 @@ pub fn constant<T: Scalar>(m: &Mat3<T>) -> bool {
 
 impl Centred {
     /// The same triad in any scalar, as a constant (no derivative).
-    fn lift<T: Scalar>(&self) -> Centred<T> {
+    pub fn lift<T: Scalar>(&self) -> Centred<T> {
         let m = |x: &Mat3| x.map(T::cst);
         Centred {
             triad: m(&self.triad),
@@ -693,9 +703,9 @@ pub fn geometry(
 /// triad is node a's frame, `k` zero without FLEXION-TORSION); on an error its contents are
 /// unspecified.
 ///
-/// `known`: the centred triad of this pose's orientations (`centred` in Real, at `prev.beta`),
-/// where the caller has it; read only where the orientations are constants along the seeded
-/// direction (`constant`), so in `Real` never.
+/// `known`: the centred triad of this pose's orientations (`centred` in Real at `prev.beta`,
+/// lifted: a constant), where the caller has it; read only where the orientations are
+/// constants along the seeded direction (`constant`), so in `Real` never.
 ///
 /// A caller that starts from `Geometry::blank()` (all zero) lets the compiler drop that
 /// zeroing where this function overwrites it: with the connection type a constant, every store
@@ -706,7 +716,7 @@ pub fn geometry_into<T: Scalar>(
     ct: ConnectionType,
     pose: &Pose<T>,
     prev: &Branches,
-    known: Option<&Centred>,
+    known: Option<&Centred<T>>,
     g: &mut Geometry<T>,
 ) -> Result<(), Singular> {
     let (ra, rb, d) = (pose.ra, pose.rb, pose.d);
@@ -730,13 +740,18 @@ pub fn geometry_into<T: Scalar>(
         // a direction that leaves both orientations alone (a seed on positions or velocities)
         // leaves the triad alone too: the caller's (`known`) or computed in Real (the same
         // values), lifted
-        let cen = if T::DUAL && constant(&ra) && constant(&rb) {
-            match known {
-                Some(c) => c.lift(),
-                None => centred(&ra.map(|x| x.re()), &rb.map(|x| x.re()), prev.beta)?.lift(),
+        let fixed = T::DUAL && constant(&ra) && constant(&rb);
+        let computed;
+        let cen = match known {
+            Some(c) if fixed => c,
+            _ => {
+                computed = if fixed {
+                    centred(&ra.map(|x| x.re()), &rb.map(|x| x.re()), prev.beta)?.lift()
+                } else {
+                    centred(&ra, &rb, prev.beta)?
+                };
+                &computed
             }
-        } else {
-            centred(&ra, &rb, prev.beta)?
         };
         g.triad = cen.triad;
         g.branches.beta = cen.angles.z.re();
