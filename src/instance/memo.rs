@@ -10,7 +10,9 @@
 //! Also what a directional derivative's point fixes for every direction (`PointMemo`): the
 //! frames of the orientation inputs and the centred triad.
 
-use crate::physics::kinematics::{centred, frame_of_raw, Centred, Singular};
+use crate::physics::kinematics::{
+    centred_with, frame_of_raw, Centred, KnownTriad, Singular, TriadTrig,
+};
 use crate::physics::math::{Dual, Mat3, Real};
 
 /// Shortest mean run worth moving as slices: a slice copy of unknown length is a call to
@@ -103,8 +105,9 @@ pub(super) struct PointMemo {
     /// The bits of the quaternion inputs (w, x, y, z of a, then of b) `frames` are of.
     quats: Option<[u64; 8]>,
     frames: [Mat3; 2],
-    /// The bits of the torsion branch the triad was computed at, and the triad.
-    triad: Option<(u64, Centred<Dual>)>,
+    /// The bits of the torsion branch the triad was computed at, the triad and the values of
+    /// its libm calls.
+    triad: Option<(u64, Centred<Dual>, TriadTrig)>,
 }
 
 impl PointMemo {
@@ -125,19 +128,24 @@ impl PointMemo {
     }
 
     /// Makes the memo hold the centred triad of the frames last given (`frames`) at torsion
-    /// branch `beta` (`kinematics::centred`, lifted): computed unless it holds that branch.
+    /// branch `beta` (`kinematics::centred_with`, the triad lifted): computed unless it
+    /// holds that branch.
     pub(super) fn hold_triad(&mut self, beta: Real) -> Result<(), Singular> {
         let key = beta.to_bits();
-        if self.triad.as_ref().is_none_or(|(k, _)| *k != key) {
-            let cen = centred(&self.frames[0], &self.frames[1], beta)?.lift();
-            self.triad = Some((key, cen));
+        if self.triad.as_ref().is_none_or(|(k, ..)| *k != key) {
+            let mut trig = TriadTrig::default();
+            let (ra, rb) = (&self.frames[0], &self.frames[1]);
+            let cen = centred_with(ra, rb, beta, &mut trig)?;
+            self.triad = Some((key, cen.lift(), trig));
         }
         Ok(())
     }
 
     /// The triad `hold_triad` made the memo hold.
-    pub(super) fn triad(&self) -> Option<&Centred<Dual>> {
-        self.triad.as_ref().map(|(_, cen)| cen)
+    pub(super) fn triad(&self) -> Option<KnownTriad<'_, Dual>> {
+        self.triad
+            .as_ref()
+            .map(|(_, triad, trig)| KnownTriad { triad, trig })
     }
 }
 

@@ -21,7 +21,7 @@ use crate::model::variables::{table, Table, Variant};
 use crate::physics::connector::{evaluate_into, evaluate_pose, Outputs, State};
 use crate::physics::friction::Eval;
 use crate::physics::init::{initial_state, initial_state_at};
-use crate::physics::kinematics::{constant, ConnectionType, Node, NodeDual, Pose, Singular};
+use crate::physics::kinematics::{ConnectionType, Node, NodeDual, Pose, Singular};
 use crate::physics::math::{Dual, Real};
 use cache::OutputCache;
 use memo::{PointMemo, VrMemo};
@@ -362,9 +362,10 @@ impl ModelInstance {
         } else {
             self.s.state.lift()
         };
-        // a direction that leaves both orientations alone leaves the centred triad alone: the
-        // same for every such direction at this point (`PointMemo`)
-        let known = if self.ct.centred() && constant(&pose.ra) && constant(&pose.rb) {
+        // the centred triad at this point, the same for every direction (`PointMemo`): the
+        // triad itself where the direction leaves both orientations alone, else the values of
+        // its libm calls
+        let known = if self.ct.centred() {
             let memo = &mut self.point_memo;
             memo.hold_triad(st.branches.beta).map_err(singular_error)?;
             memo.triad()

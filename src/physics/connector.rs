@@ -8,7 +8,7 @@
 
 use super::friction::{self, Eval, FrictionOut, FrictionParams, FrictionState};
 use super::kinematics::{
-    geometry_into, Branches, Centred, ConnectionType, Geometry, Node, Pose, Role, Singular,
+    geometry_into, Branches, ConnectionType, Geometry, KnownTriad, Node, Pose, Role, Singular,
 };
 use super::math::{lift, Real, Scalar, Vec3};
 
@@ -279,7 +279,7 @@ pub fn evaluate_pose<T: Scalar>(
     p: &Params,
     st: &State<T>,
     pose: &Pose<T>,
-    known: Option<&Centred<T>>,
+    known: Option<KnownTriad<T>>,
     mode: Eval,
     out: (&mut Outputs<T>, &mut State<T>),
 ) -> Result<(), Singular> {
@@ -314,7 +314,7 @@ fn evaluate_body<T: Scalar>(
     p: &Params,
     st: &State<T>,
     pose: &Pose<T>,
-    known: Option<&Centred<T>>,
+    known: Option<KnownTriad<T>>,
     mode: Eval,
     (o, next): (&mut Outputs<T>, &mut State<T>),
 ) -> Result<(), Singular> {

@@ -578,13 +578,97 @@ pub fn centred<T: Scalar>(
     rb: &Mat3<T>,
     beta_prev: Real,
 ) -> Result<Centred<T>, Singular> {
+    centred_with(ra, rb, beta_prev, Calls)
+}
+
+/// The centred triad at a pose's orientations as a caller may know it (`geometry_into`):
+/// computed in Real at the same frames and torsion branch, the triad lifted (a constant) and
+/// the values of its libm calls.
+#[derive(Clone, Copy, Debug)]
+pub struct KnownTriad<'a, T: Scalar> {
+    /// The triad, a constant.
+    pub triad: &'a Centred<T>,
+    /// The values of its libm calls.
+    pub trig: &'a TriadTrig,
+}
+
+/// The values of the centred triad's libm calls at one pose (`centred_with`): atan2 for α
+/// and the raw torsion, sin_cos of α/2 and of β/2.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TriadTrig {
+    /// atan2 values: α, the torsion before its branch is continued.
+    pub atan2: [Real; 2],
+    /// sin_cos values: of α/2, of β/2.
+    pub sin_cos: [(Real, Real); 2],
+}
+
+/// Where `centred_with` takes the values of its libm calls from (call i of each kind, in
+/// `TriadTrig`'s order).
+pub trait TriadLibm {
+    /// atan2(y, x).
+    fn atan2<T: Scalar>(&mut self, i: usize, y: T, x: T) -> T;
+    /// (sin x, cos x).
+    fn sin_cos<T: Scalar>(&mut self, i: usize, x: T) -> (T, T);
+}
+
+/// The calls made (`centred`).
+pub struct Calls;
+
+impl TriadLibm for Calls {
+    #[inline(always)]
+    fn atan2<T: Scalar>(&mut self, _: usize, y: T, x: T) -> T {
+        y.atan2(x)
+    }
+    #[inline(always)]
+    fn sin_cos<T: Scalar>(&mut self, _: usize, x: T) -> (T, T) {
+        x.sin_cos()
+    }
+}
+
+/// The calls made and their values recorded.
+impl TriadLibm for &mut TriadTrig {
+    #[inline(always)]
+    fn atan2<T: Scalar>(&mut self, i: usize, y: T, x: T) -> T {
+        let v = y.atan2(x);
+        self.atan2[i] = v.re();
+        v
+    }
+    #[inline(always)]
+    fn sin_cos<T: Scalar>(&mut self, i: usize, x: T) -> (T, T) {
+        let v = x.sin_cos();
+        self.sin_cos[i] = (v.0.re(), v.1.re());
+        v
+    }
+}
+
+/// The values taken from an evaluation at the same pose (in Real: the directional
+/// derivatives along an orientation at a point whose triad is known), not computed again:
+/// the same results bit for bit.
+impl TriadLibm for &TriadTrig {
+    #[inline(always)]
+    fn atan2<T: Scalar>(&mut self, i: usize, y: T, x: T) -> T {
+        y.atan2_valued(x, self.atan2[i])
+    }
+    #[inline(always)]
+    fn sin_cos<T: Scalar>(&mut self, i: usize, x: T) -> (T, T) {
+        x.sin_cos_valued(self.sin_cos[i])
+    }
+}
+
+/// `centred`, with its libm calls through `libm` (`TriadLibm`).
+pub fn centred_with<T: Scalar, L: TriadLibm>(
+    ra: &Mat3<T>,
+    rb: &Mat3<T>,
+    beta_prev: Real,
+    mut libm: L,
+) -> Result<Centred<T>, Singular> {
     let (e1a, e2a, e3a) = (ra.column(0), ra.column(1), ra.column(2));
     let (e1b, e2b, e3b) = (rb.column(0), rb.column(1), rb.column(2));
     // 1. total flexion α and α·q = (α / sin α)(e3a × e3b), smooth at α → 0
     let w = e3a.cross(&e3b);
     let s = norm3(&w);
     let c = e3a.dot(&e3b);
-    let alpha = s.atan2(c);
+    let alpha = libm.atan2(0, s, c);
     if !alpha.re().is_finite() {
         return Err(Singular::NotFinite);
     }
@@ -600,14 +684,17 @@ pub fn centred<T: Scalar>(
     .x_over_sin();
     // 2. frame a rotated by +α/2 about q: its third axis is the bisector e3 (Rodrigues, with
     //    the sine and cosine of α/2 that the Jacobians below need too)
-    let th = SinCos::of(alpha * 0.5);
+    let x = alpha * 0.5;
+    let (sin, cos) = libm.sin_cos(0, x);
+    let th = SinCos { x, sin, cos };
     let ra_half = rotate_about(&w, s, &th, ra);
     // 3. torsion β (the manual's formula on the original frames), continued from the previous value
-    let beta_raw = (e2a.dot(&e1b) - e1a.dot(&e2b)).atan2(e1a.dot(&e1b) + e2a.dot(&e2b));
+    let (y, x) = (e2a.dot(&e1b) - e1a.dot(&e2b), e1a.dot(&e1b) + e2a.dot(&e2b));
+    let beta_raw = libm.atan2(1, y, x);
     let beta = continue_branch(beta_raw, beta_prev);
     // 4. {e1, e2, e3} = Rot(e3, β/2)·Rot(q, α/2)·{frame a}: ra_half·rot_z(β/2) column by
     //    column (the zeros of rot_z left out)
-    let (sb, cb) = (beta * 0.5).sin_cos();
+    let (sb, cb) = libm.sin_cos(1, beta * 0.5);
     let (h0, h1c) = (ra_half.column(0), ra_half.column(1));
     let triad = Mat3::from_columns(&[
         h0 * cb + h1c * sb,
@@ -659,7 +746,7 @@ pub fn centred<T: Scalar>(
 /// Its derivative at w = 0 (shafts aligned, α = 0, θ = α/2): the rotation vector θ·w/|w| is
 /// w/2 + O(|w|³), so the columns turn by δw/2 (the central difference there; the formula's
 /// q = w/|w| has no derivative).
-#[inline]
+#[inline(always)]
 fn rotate_about<T: Scalar>(w: &Vec3<T>, w_norm: T, th: &SinCos<T>, m: &Mat3<T>) -> Mat3<T> {
     if w_norm.re() == 0.0 {
         if T::DUAL {
@@ -703,9 +790,9 @@ pub fn geometry(
 /// triad is node a's frame, `k` zero without FLEXION-TORSION); on an error its contents are
 /// unspecified.
 ///
-/// `known`: the centred triad of this pose's orientations (`centred` in Real at `prev.beta`,
-/// lifted: a constant), where the caller has it; read only where the orientations are
-/// constants along the seeded direction (`constant`), so in `Real` never.
+/// `known`: the centred triad of this pose's orientations at `prev.beta`, where the caller
+/// has it (`KnownTriad`): the triad where the orientations are constants along the seeded
+/// direction (`constant`), else the values of its libm calls; in `Real` never given.
 ///
 /// A caller that starts from `Geometry::blank()` (all zero) lets the compiler drop that
 /// zeroing where this function overwrites it: with the connection type a constant, every store
@@ -716,7 +803,7 @@ pub fn geometry_into<T: Scalar>(
     ct: ConnectionType,
     pose: &Pose<T>,
     prev: &Branches,
-    known: Option<&Centred<T>>,
+    known: Option<KnownTriad<T>>,
     g: &mut Geometry<T>,
 ) -> Result<(), Singular> {
     let (ra, rb, d) = (pose.ra, pose.rb, pose.d);
@@ -743,12 +830,15 @@ pub fn geometry_into<T: Scalar>(
         let fixed = T::DUAL && constant(&ra) && constant(&rb);
         let computed;
         let cen = match known {
-            Some(c) if fixed => c,
+            Some(k) if fixed => k.triad,
             _ => {
                 computed = if fixed {
                     centred(&ra.map(|x| x.re()), &rb.map(|x| x.re()), prev.beta)?.lift()
                 } else {
-                    centred(&ra, &rb, prev.beta)?
+                    match known {
+                        Some(k) if T::DUAL => centred_with(&ra, &rb, prev.beta, k.trig)?,
+                        _ => centred(&ra, &rb, prev.beta)?,
+                    }
                 };
                 &computed
             }

@@ -56,6 +56,12 @@ pub trait Scalar:
     fn exp(self) -> Self;
     /// atan2(self, x).
     fn atan2(self, x: Self) -> Self;
+    /// `atan2(self, x)` where its value is known (`value`: `f64::atan2` of the values, taken
+    /// elsewhere at the same point): the same result, the value not computed again.
+    fn atan2_valued(self, x: Self, value: Real) -> Self;
+    /// `sin_cos` where its values are known (`f64::sin_cos` of the value, taken elsewhere):
+    /// the same result, the values not computed again.
+    fn sin_cos_valued(self, value: (Real, Real)) -> (Self, Self);
     /// |x| (derivative 0 at 0, as the central difference).
     fn abs(self) -> Self;
     /// The larger by value (`f64::max`: a NaN loses).
@@ -105,6 +111,14 @@ impl Scalar for Real {
     #[inline(always)]
     fn atan2(self, x: Self) -> Self {
         f64::atan2(self, x)
+    }
+    #[inline(always)]
+    fn atan2_valued(self, _: Self, value: Real) -> Self {
+        value
+    }
+    #[inline(always)]
+    fn sin_cos_valued(self, value: (Real, Real)) -> (Self, Self) {
+        value
     }
     #[inline(always)]
     fn abs(self) -> Self {
@@ -285,8 +299,7 @@ impl Scalar for Dual {
     }
     #[inline(always)]
     fn sin_cos(self) -> (Self, Self) {
-        let (s, c) = self.re.sin_cos();
-        (self.chain(s, c), self.chain(c, -s))
+        self.sin_cos_valued(self.re.sin_cos())
     }
     #[inline(always)]
     fn sin(self) -> Self {
@@ -305,13 +318,21 @@ impl Scalar for Dual {
     }
     #[inline(always)]
     fn atan2(self, x: Self) -> Self {
+        self.atan2_valued(x, self.re.atan2(x.re))
+    }
+    #[inline(always)]
+    fn atan2_valued(self, x: Self, value: Real) -> Self {
         let (y, r2) = (self, x.re * x.re + self.re * self.re);
         let d = if r2 == 0.0 {
             0.0
         } else {
             (x.re * y.eps - y.re * x.eps) / r2
         };
-        Dual::new(y.re.atan2(x.re), d)
+        Dual::new(value, d)
+    }
+    #[inline(always)]
+    fn sin_cos_valued(self, (s, c): (Real, Real)) -> (Self, Self) {
+        (self.chain(s, c), self.chain(c, -s))
     }
     #[inline(always)]
     fn abs(self) -> Self {
