@@ -11,7 +11,7 @@
 //! frames of the orientation inputs and the centred triad.
 
 use crate::physics::kinematics::{
-    centred_with, frame_of_raw, Centred, KnownTriad, Singular, TriadTrig,
+    centred_with, frame_of_raw, Centred, Singular, TriadSource, TriadTrig,
 };
 use crate::physics::math::{Dual, Mat3, Real};
 
@@ -95,19 +95,21 @@ impl VrMemo {
 }
 
 /// What a directional derivative's point fixes, whatever the direction: the frames of its
-/// orientation inputs (Real), and the centred triad there at a torsion branch (lifted to
-/// `Dual`: the triad of every direction that leaves both orientations alone). A
-/// linear-implicit master asks for the derivatives along every input at one point, so these
-/// are computed once for all of them. Keyed by the bits of the raw quaternion inputs (and of
-/// the branch for the triad): the same bits give the same frames and triad.
+/// orientation inputs (Real), and at a torsion branch the centred triad (computed in Real,
+/// lifted to `Dual`: the triad of every direction that leaves both orientations alone) and
+/// the values of its libm calls (which the triad of a direction along an orientation takes
+/// instead of calling libm again). A linear-implicit master asks for the derivatives along
+/// every input at one point, so these are computed once for all of them. Keyed by the bits of
+/// the raw quaternion inputs and of the branch: the same bits give the same frames and triad.
 #[derive(Default)]
 pub(super) struct PointMemo {
     /// The bits of the quaternion inputs (w, x, y, z of a, then of b) `frames` are of.
     quats: Option<[u64; 8]>,
     frames: [Mat3; 2],
-    /// The bits of the torsion branch the triad was computed at, the triad and the values of
-    /// its libm calls.
-    triad: Option<(u64, Centred<Dual>, TriadTrig)>,
+    /// The bits of a torsion branch, and the triad there.
+    triad: Option<(u64, Centred<Dual>)>,
+    /// The bits of a torsion branch, and the values of the triad's libm calls there.
+    trig: Option<(u64, TriadTrig)>,
 }
 
 impl PointMemo {
@@ -122,30 +124,54 @@ impl PointMemo {
         if self.quats != Some(key) {
             self.frames = [frame_of_raw(&q[0]), frame_of_raw(&q[1])];
             self.quats = Some(key);
-            self.triad = None;
+            (self.triad, self.trig) = (None, None);
         }
         &self.frames
     }
 
-    /// Makes the memo hold the centred triad of the frames last given (`frames`) at torsion
-    /// branch `beta` (`kinematics::centred_with`, the triad lifted): computed unless it
-    /// holds that branch.
-    pub(super) fn hold_triad(&mut self, beta: Real) -> Result<(), Singular> {
+    /// The centred triad of the frames last given (`frames`) at torsion branch `beta`, for a
+    /// direction that leaves both orientations alone: computed in Real (with the libm values
+    /// the memo holds, else recording them) and lifted, unless the memo holds it.
+    pub(super) fn triad(&mut self, beta: Real) -> Result<TriadSource<'_, Dual>, Singular> {
         let key = beta.to_bits();
-        if self.triad.as_ref().is_none_or(|(k, ..)| *k != key) {
-            let mut trig = TriadTrig::default();
+        if self.triad.as_ref().is_none_or(|(k, _)| *k != key) {
             let (ra, rb) = (&self.frames[0], &self.frames[1]);
-            let cen = centred_with(ra, rb, beta, &mut trig)?;
-            self.triad = Some((key, cen.lift(), trig));
+            let cen = match &self.trig {
+                Some((k, trig)) if *k == key => centred_with(ra, rb, beta, trig)?,
+                _ => {
+                    let mut trig = TriadTrig::default();
+                    let cen = centred_with(ra, rb, beta, &mut trig)?;
+                    self.trig = Some((key, trig));
+                    cen
+                }
+            };
+            self.triad = Some((key, cen.lift()));
         }
-        Ok(())
+        Ok(match &self.triad {
+            Some((_, cen)) => TriadSource::Given(cen),
+            None => TriadSource::Compute,
+        })
     }
 
-    /// The triad `hold_triad` made the memo hold.
-    pub(super) fn triad(&self) -> Option<KnownTriad<'_, Dual>> {
-        self.triad
-            .as_ref()
-            .map(|(_, triad, trig)| KnownTriad { triad, trig })
+    /// The values of the triad's libm calls at the frames last given and branch `beta`, for a
+    /// direction along an orientation: where the memo holds them, else recorded into `record`
+    /// (then given to `remember`).
+    pub(super) fn trig<'m>(
+        &'m self,
+        beta: Real,
+        record: &'m mut Option<TriadTrig>,
+    ) -> TriadSource<'m, Dual> {
+        match &self.trig {
+            Some((k, trig)) if *k == beta.to_bits() => TriadSource::Trig(trig),
+            _ => TriadSource::RecordTrig(record),
+        }
+    }
+
+    /// Remembers the libm values recorded at branch `beta` (`trig`), for the frames last given.
+    pub(super) fn remember(&mut self, beta: Real, recorded: Option<TriadTrig>) {
+        if let Some(trig) = recorded {
+            self.trig = Some((beta.to_bits(), trig));
+        }
     }
 }
 

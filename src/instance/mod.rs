@@ -21,7 +21,7 @@ use crate::model::variables::{table, Table, Variant};
 use crate::physics::connector::{evaluate_into, evaluate_pose, Outputs, State};
 use crate::physics::friction::Eval;
 use crate::physics::init::{initial_state, initial_state_at};
-use crate::physics::kinematics::{ConnectionType, Node, NodeDual, Pose, Singular};
+use crate::physics::kinematics::{ConnectionType, Node, NodeDual, Pose, Singular, TriadSource};
 use crate::physics::math::{Dual, Real};
 use cache::OutputCache;
 use memo::{PointMemo, VrMemo};
@@ -363,17 +363,22 @@ impl ModelInstance {
             self.s.state.lift()
         };
         // the centred triad at this point, the same for every direction (`PointMemo`): the
-        // triad itself where the direction leaves both orientations alone, else the values of
-        // its libm calls
-        let known = if self.ct.centred() {
-            let memo = &mut self.point_memo;
-            memo.hold_triad(st.branches.beta).map_err(singular_error)?;
-            memo.triad()
+        // triad itself where the direction leaves both orientations alone (no seed on them;
+        // `geometry_into` reads it only where the frames are constants), else the values of
+        // its libm calls, recorded where the memo does not hold them yet
+        let beta = st.branches.beta;
+        let mut recorded = None;
+        let triad = if !self.ct.centred() {
+            TriadSource::Compute
+        } else if seed.iter().all(|s| s[3..7] == [0.0; 4]) {
+            self.point_memo.triad(beta).map_err(singular_error)?
         } else {
-            None
+            self.point_memo.trig(beta, &mut recorded)
         };
         let TangentBuffers { o, next } = &mut *self.tangent;
-        evaluate_pose(self.ct, p, &st, &pose, known, mode, (o, next)).map_err(singular_error)
+        evaluate_pose(self.ct, p, &st, &pose, triad, mode, (o, next)).map_err(singular_error)?;
+        self.point_memo.remember(beta, recorded);
+        Ok(())
     }
 
     /// Outputs at the current inputs and committed state, cached until something changes.

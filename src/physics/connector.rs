@@ -8,7 +8,7 @@
 
 use super::friction::{self, Eval, FrictionOut, FrictionParams, FrictionState};
 use super::kinematics::{
-    geometry_into, Branches, ConnectionType, Geometry, KnownTriad, Node, Pose, Role, Singular,
+    geometry_into, Branches, ConnectionType, Geometry, Node, Pose, Role, Singular, TriadSource,
 };
 use super::math::{lift, Real, Scalar, Vec3};
 
@@ -267,19 +267,19 @@ pub fn evaluate_into(
     mode: Eval,
     out: (&mut Outputs, &mut State),
 ) -> Result<(), Singular> {
-    evaluate_pose(ct, p, st, &Pose::of(a, b), None, mode, out)
+    evaluate_pose(ct, p, st, &Pose::of(a, b), TriadSource::Compute, mode, out)
 }
 
 /// `evaluate_into` at a pose, in any scalar: with `Dual` (the inputs seeded along a direction)
 /// the outputs carry their exact derivatives along it, the consistent tangent
-/// (`ModelInstance::directional_derivative`). `known`: the centred triad at this pose where
-/// the caller has it (`geometry_into`).
+/// (`ModelInstance::directional_derivative`). `triad`: how the centred triad at this pose is
+/// come by (`geometry_into`).
 pub fn evaluate_pose<T: Scalar>(
     ct: ConnectionType,
     p: &Params,
     st: &State<T>,
     pose: &Pose<T>,
-    known: Option<KnownTriad<T>>,
+    triad: TriadSource<T>,
     mode: Eval,
     out: (&mut Outputs<T>, &mut State<T>),
 ) -> Result<(), Singular> {
@@ -292,9 +292,9 @@ pub fn evaluate_pose<T: Scalar>(
             match (ct.trans, ct.rot) {
                 $((T_::$t, R::$r) => {
                     const CT: ConnectionType = ConnectionType { trans: T_::$t, rot: R::$r };
-                    evaluate_body(CT, p, st, pose, known, mode, out)
+                    evaluate_body(CT, p, st, pose, triad, mode, out)
                 })*
-                _ => evaluate_body(ct, p, st, pose, known, mode, out),
+                _ => evaluate_body(ct, p, st, pose, triad, mode, out),
             }
         };
     }
@@ -314,13 +314,13 @@ fn evaluate_body<T: Scalar>(
     p: &Params,
     st: &State<T>,
     pose: &Pose<T>,
-    known: Option<KnownTriad<T>>,
+    triad: TriadSource<T>,
     mode: Eval,
     (o, next): (&mut Outputs<T>, &mut State<T>),
 ) -> Result<(), Singular> {
     let roles = ct.roles();
     let mut g = Geometry::blank();
-    geometry_into(ct, pose, &st.branches, known, &mut g)?;
+    geometry_into(ct, pose, &st.branches, triad, &mut g)?;
     // `next` field by field (every field is written, none twice): what the evaluation does not
     // change is copied from `st`, the rest is written below
     next.branches = g.branches;

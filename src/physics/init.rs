@@ -2,7 +2,9 @@
 
 use super::connector::{evaluate_pose, Outputs, Params, State};
 use super::friction::Eval;
-use super::kinematics::{geometry_into, Branches, ConnectionType, Geometry, Node, Pose, Singular};
+use super::kinematics::{
+    geometry_into, Branches, ConnectionType, Geometry, Node, Pose, Singular, TriadSource,
+};
 use super::math::Scalar;
 
 /// The initial state for nodes (a, b): component positions become the initial values
@@ -27,7 +29,7 @@ pub fn initial_state_at<T: Scalar>(
     pose: &Pose<T>,
 ) -> Result<State<T>, Singular> {
     let mut g = Geometry::blank();
-    geometry_into(ct, pose, &Branches::default(), None, &mut g)?;
+    geometry_into(ct, pose, &Branches::default(), TriadSource::Compute, &mut g)?;
     let mut st = State {
         branches: g.branches,
         c0: g.pos,
@@ -36,7 +38,15 @@ pub fn initial_state_at<T: Scalar>(
     st.friction.slip_plastic = [g.pos[1], g.pos[2]];
     st.friction.slip_plastic_r1 = g.pos[3];
     let (mut o, mut next) = (Outputs::default(), State::default());
-    evaluate_pose(ct, p, &st, pose, None, Eval::Start, (&mut o, &mut next))?;
+    evaluate_pose(
+        ct,
+        p,
+        &st,
+        pose,
+        TriadSource::Compute,
+        Eval::Start,
+        (&mut o, &mut next),
+    )?;
     st.stop_status = next.stop_status;
     st.friction.status = next.friction.status;
     st.friction.status_r1 = next.friction.status_r1;

@@ -581,15 +581,19 @@ pub fn centred<T: Scalar>(
     centred_with(ra, rb, beta_prev, Calls)
 }
 
-/// The centred triad at a pose's orientations as a caller may know it (`geometry_into`):
-/// computed in Real at the same frames and torsion branch, the triad lifted (a constant) and
-/// the values of its libm calls.
-#[derive(Clone, Copy, Debug)]
-pub struct KnownTriad<'a, T: Scalar> {
-    /// The triad, a constant.
-    pub triad: &'a Centred<T>,
-    /// The values of its libm calls.
-    pub trig: &'a TriadTrig,
+/// How `geometry_into` comes by the centred triad at a pose's orientations (in `Dual`: the
+/// directional derivatives, which all need the same one at a point).
+#[derive(Debug)]
+pub enum TriadSource<'a, T: Scalar> {
+    /// Computed (every evaluation in Real).
+    Compute,
+    /// The caller has it, computed in Real at these frames and torsion branch, as a constant:
+    /// read where the orientations are constants along the seeded direction (`constant`).
+    Given(&'a Centred<T>),
+    /// The caller has the values of its libm calls at these frames and branch.
+    Trig(&'a TriadTrig),
+    /// Computed, and the values of its libm calls handed to the caller.
+    RecordTrig(&'a mut Option<TriadTrig>),
 }
 
 /// The values of the centred triad's libm calls at one pose (`centred_with`): atan2 for α
@@ -780,7 +784,7 @@ pub fn geometry(
     prev: &Branches,
 ) -> Result<Geometry, Singular> {
     let mut g = Geometry::blank();
-    geometry_into(ct, &Pose::of(a, b), prev, None, &mut g)?;
+    geometry_into(ct, &Pose::of(a, b), prev, TriadSource::Compute, &mut g)?;
     Ok(g)
 }
 
@@ -790,9 +794,8 @@ pub fn geometry(
 /// triad is node a's frame, `k` zero without FLEXION-TORSION); on an error its contents are
 /// unspecified.
 ///
-/// `known`: the centred triad of this pose's orientations at `prev.beta`, where the caller
-/// has it (`KnownTriad`): the triad where the orientations are constants along the seeded
-/// direction (`constant`), else the values of its libm calls; in `Real` never given.
+/// `triad`: how the centred triad of this pose's orientations at `prev.beta` is come by
+/// (`TriadSource`; in `Real` always computed).
 ///
 /// A caller that starts from `Geometry::blank()` (all zero) lets the compiler drop that
 /// zeroing where this function overwrites it: with the connection type a constant, every store
@@ -803,7 +806,7 @@ pub fn geometry_into<T: Scalar>(
     ct: ConnectionType,
     pose: &Pose<T>,
     prev: &Branches,
-    known: Option<KnownTriad<T>>,
+    triad: TriadSource<T>,
     g: &mut Geometry<T>,
 ) -> Result<(), Singular> {
     let (ra, rb, d) = (pose.ra, pose.rb, pose.d);
@@ -829,16 +832,23 @@ pub fn geometry_into<T: Scalar>(
         // values), lifted
         let fixed = T::DUAL && constant(&ra) && constant(&rb);
         let computed;
-        let cen = match known {
-            Some(k) if fixed => k.triad,
+        let cen = match triad {
+            TriadSource::Given(c) if fixed => c,
+            TriadSource::Trig(trig) if T::DUAL && !fixed => {
+                computed = centred_with(&ra, &rb, prev.beta, trig)?;
+                &computed
+            }
+            TriadSource::RecordTrig(slot) if T::DUAL && !fixed => {
+                let mut trig = TriadTrig::default();
+                computed = centred_with(&ra, &rb, prev.beta, &mut trig)?;
+                *slot = Some(trig);
+                &computed
+            }
             _ => {
                 computed = if fixed {
                     centred(&ra.map(|x| x.re()), &rb.map(|x| x.re()), prev.beta)?.lift()
                 } else {
-                    match known {
-                        Some(k) if T::DUAL => centred_with(&ra, &rb, prev.beta, k.trig)?,
-                        _ => centred(&ra, &rb, prev.beta)?,
-                    }
+                    centred(&ra, &rb, prev.beta)?
                 };
                 &computed
             }
