@@ -8,7 +8,8 @@
 
 use super::friction::{self, Eval, FrictionOut, FrictionParams, FrictionState};
 use super::kinematics::{
-    geometry_into, Branches, ConnectionType, Geometry, Node, Pose, Role, Singular, TriadSource,
+    geometry_into, with_constant_type, Branches, ConnectionType, Geometry, Node, Pose, Role,
+    Singular, TriadSource,
 };
 use super::math::{lift, Real, Scalar, Vec3};
 
@@ -283,28 +284,10 @@ pub fn evaluate_pose<T: Scalar>(
     mode: Eval,
     out: (&mut Outputs<T>, &mut State<T>),
 ) -> Result<(), Singular> {
-    use super::kinematics::{Rotational as R, Translational as T_};
-    // One copy of the body per connection type of the variants, each with `ct` a constant:
-    // the branches on the type and its roles fold away, and each variant runs only its own
-    // code (the per-step path; other pairings take the general copy).
-    macro_rules! per_type {
-        ($(($t:ident, $r:ident)),*) => {
-            match (ct.trans, ct.rot) {
-                $((T_::$t, R::$r) => {
-                    const CT: ConnectionType = ConnectionType { trans: T_::$t, rot: R::$r };
-                    evaluate_body(CT, p, st, pose, triad, mode, out)
-                })*
-                _ => evaluate_body(ct, p, st, pose, triad, mode, out),
-            }
-        };
-    }
-    per_type!(
-        (SlidePlane, Revolute),
-        (ProjectionCartesian, None),
-        (None, ProjectionFlexionTorsion),
-        (ProjectionCartesian, ProjectionFlexionTorsion),
-        (RadialThrust, None)
-    )
+    // One copy of the body per connection type of the variants, each with the type a
+    // constant: the branches on the type and its roles fold away, and each variant runs only
+    // its own code (the per-step path; other pairings take the general copy).
+    with_constant_type!(ct, |CT| evaluate_body(CT, p, st, pose, triad, mode, out))
 }
 
 /// The body of `evaluate_pose`, inlined into each of its per-type copies.

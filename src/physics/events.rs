@@ -20,7 +20,7 @@
 
 use super::connector::{Outputs, Params, State};
 use super::friction::{normal_loads, stick_slip_function, FrictionParams, FrictionState, Status};
-use super::kinematics::{ConnectionType, Role, Rotational};
+use super::kinematics::{with_constant_type, ConnectionType, Role, Rotational};
 use super::math::Real;
 
 /// First upper-stop function (one per component slot).
@@ -126,6 +126,12 @@ impl Taking {
 
 /// `values` with the set of the functions taking part.
 pub fn values_on(ct: ConnectionType, p: &Params, st: &State, o: &Outputs) -> Taking {
+    // one copy per connection type: its roles fold away
+    with_constant_type!(ct, |CT| values_on_body(CT, p, st, o))
+}
+
+#[inline(always)]
+fn values_on_body(ct: ConnectionType, p: &Params, st: &State, o: &Outputs) -> Taking {
     let mut v = Taking {
         v: [Real::NAN; N_EVENTS],
         on: 0,

@@ -82,6 +82,61 @@ pub struct ConnectionType {
     pub rot: Rotational,
 }
 
+/// `$body` evaluated with `$c` a constant copy of the connection type `$ct`, one copy of the
+/// body per connection type of the variants (the branches on the type and its roles fold
+/// away in each); other pairings take the general copy, `$c` = `$ct`.
+macro_rules! with_constant_type {
+    ($ct:expr, |$c:ident| $body:expr) => {{
+        use $crate::physics::kinematics::{
+            ConnectionType as Ct, Rotational as R, Translational as T,
+        };
+        let ct: Ct = $ct;
+        match (ct.trans, ct.rot) {
+            (T::SlidePlane, R::Revolute) => {
+                const $c: Ct = Ct {
+                    trans: T::SlidePlane,
+                    rot: R::Revolute,
+                };
+                $body
+            }
+            (T::ProjectionCartesian, R::None) => {
+                const $c: Ct = Ct {
+                    trans: T::ProjectionCartesian,
+                    rot: R::None,
+                };
+                $body
+            }
+            (T::None, R::ProjectionFlexionTorsion) => {
+                const $c: Ct = Ct {
+                    trans: T::None,
+                    rot: R::ProjectionFlexionTorsion,
+                };
+                $body
+            }
+            (T::ProjectionCartesian, R::ProjectionFlexionTorsion) => {
+                const $c: Ct = Ct {
+                    trans: T::ProjectionCartesian,
+                    rot: R::ProjectionFlexionTorsion,
+                };
+                $body
+            }
+            (T::RadialThrust, R::None) => {
+                const $c: Ct = Ct {
+                    trans: T::RadialThrust,
+                    rot: R::None,
+                };
+                $body
+            }
+            _ => {
+                #[allow(non_snake_case)]
+                let $c = ct;
+                $body
+            }
+        }
+    }};
+}
+pub(crate) use with_constant_type;
+
 impl ConnectionType {
     /// Role of every component slot (k = 1..6 at index k−1).
     #[inline(always)]
