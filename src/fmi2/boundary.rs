@@ -149,15 +149,21 @@ pub(crate) trait ToStatus {
 }
 
 impl ToStatus for FmuResult<()> {
+    #[inline]
     fn to_status(self, inst: &mut ModelInstance, fname: &str) -> fmi2Status {
         match self {
             Ok(()) => fmi2Status::OK,
-            Err(e) => {
-                inst.log(e.level, e.category(), &format!("{fname}: {}", e.message));
-                e.level.into()
-            }
+            Err(e) => refused(e, inst, fname),
         }
     }
+}
+
+/// Logs a refused call's error (off the path of the calls that succeed) and returns its status.
+#[cold]
+#[inline(never)]
+fn refused(e: FmuError, inst: &mut ModelInstance, fname: &str) -> fmi2Status {
+    inst.log(e.level, e.category(), &format!("{fname}: {}", e.message));
+    e.level.into()
 }
 
 fn null_error(what: &str, n: usize) -> FmuError {
