@@ -98,9 +98,10 @@ impl VrMemo {
 /// orientation inputs (Real), and at a torsion branch the centred triad (computed in Real,
 /// lifted to `Dual`: the triad of every direction that leaves both orientations alone) and
 /// the values of its libm calls (which the triad of a direction along an orientation takes
-/// instead of calling libm again). A linear-implicit master asks for the derivatives along
-/// every input at one point, so these are computed once for all of them. Keyed by the bits of
-/// the raw quaternion inputs and of the branch: the same bits give the same frames and triad.
+/// instead of calling libm again). A linear-implicit master reads the outputs at a point and
+/// then asks for the derivatives along every input there, so these are computed once for the
+/// read and all of them (`read`). Keyed by the bits of the raw quaternion inputs and of the
+/// branch: the same bits give the same frames and triad.
 #[derive(Default)]
 pub(super) struct PointMemo {
     /// The bits of the quaternion inputs (w, x, y, z of a, then of b) `frames` are of.
@@ -110,6 +111,18 @@ pub(super) struct PointMemo {
     triad: Option<(u64, Centred<Dual>)>,
     /// The bits of a torsion branch, and the values of the triad's libm calls there.
     trig: Option<(u64, TriadTrig)>,
+    /// The triad a read at these inputs computed (`read`): the bits of its torsion branch,
+    /// the triad (Real) and the values of its libm calls.
+    read: Option<(u64, Centred, TriadTrig)>,
+}
+
+/// The bits of the raw quaternion inputs (w, x, y, z of node a, then of node b).
+pub(super) fn quat_bits(q: [[Real; 4]; 2]) -> [u64; 8] {
+    let mut key = [0u64; 8];
+    for (k, x) in key.iter_mut().zip(q.iter().flat_map(|q| q.iter())) {
+        *k = x.to_bits();
+    }
+    key
 }
 
 impl PointMemo {
@@ -117,35 +130,60 @@ impl PointMemo {
     /// from the memo where it holds the same inputs, else computed and remembered (which
     /// forgets the triad of other inputs).
     pub(super) fn frames(&mut self, q: [[Real; 4]; 2]) -> &[Mat3; 2] {
-        let mut key = [0u64; 8];
-        for (k, x) in key.iter_mut().zip(q.iter().flat_map(|q| q.iter())) {
-            *k = x.to_bits();
-        }
+        let key = quat_bits(q);
         if self.quats != Some(key) {
             self.frames = [frame_of_raw(&q[0]), frame_of_raw(&q[1])];
             self.quats = Some(key);
-            (self.triad, self.trig) = (None, None);
+            (self.triad, self.trig, self.read) = (None, None, None);
         }
         &self.frames
     }
 
+    /// The centred triad (Real) of a read at inputs whose quaternions have the bits `quats`,
+    /// of frames `frames` (`Pose::of`'s, the same bits as `frame_of_raw`'s) and torsion branch
+    /// `beta`: the one the memo holds, else computed (recording its libm values) and kept for
+    /// the directions at that point (`triad`, `trig`). None only where it could not be kept.
+    pub(super) fn read(
+        &mut self,
+        quats: [u64; 8],
+        frames: &[Mat3; 2],
+        beta: Real,
+    ) -> Result<Option<&Centred>, Singular> {
+        if self.quats != Some(quats) {
+            (self.quats, self.frames) = (Some(quats), *frames);
+            (self.triad, self.trig, self.read) = (None, None, None);
+        }
+        let key = beta.to_bits();
+        if self.read.as_ref().is_none_or(|(k, ..)| *k != key) {
+            let mut trig = TriadTrig::default();
+            let cen = centred_with(&self.frames[0], &self.frames[1], beta, &mut trig)?;
+            self.read = Some((key, cen, trig));
+        }
+        Ok(self.read.as_ref().map(|(_, cen, _)| cen))
+    }
+
     /// The centred triad of the frames last given (`frames`) at torsion branch `beta`, for a
-    /// direction that leaves both orientations alone: computed in Real (with the libm values
-    /// the memo holds, else recording them) and lifted, unless the memo holds it.
+    /// direction that leaves both orientations alone: lifted from a read's (`read`), else
+    /// computed in Real (with the libm values the memo holds, else recording them) and
+    /// lifted, unless the memo holds it.
     pub(super) fn triad(&mut self, beta: Real) -> Result<TriadSource<'_, Dual>, Singular> {
         let key = beta.to_bits();
         if self.triad.as_ref().is_none_or(|(k, _)| *k != key) {
             let (ra, rb) = (&self.frames[0], &self.frames[1]);
-            let cen = match &self.trig {
-                Some((k, trig)) if *k == key => centred_with(ra, rb, beta, trig)?,
+            let lifted = match (&self.read, &self.trig) {
+                (Some((k, cen, trig)), _) if *k == key => {
+                    self.trig = Some((key, *trig));
+                    cen.lift()
+                }
+                (_, Some((k, trig))) if *k == key => centred_with(ra, rb, beta, trig)?.lift(),
                 _ => {
                     let mut trig = TriadTrig::default();
                     let cen = centred_with(ra, rb, beta, &mut trig)?;
                     self.trig = Some((key, trig));
-                    cen
+                    cen.lift()
                 }
             };
-            self.triad = Some((key, cen.lift()));
+            self.triad = Some((key, lifted));
         }
         Ok(match &self.triad {
             Some((_, cen)) => TriadSource::Given(cen),
@@ -154,15 +192,16 @@ impl PointMemo {
     }
 
     /// The values of the triad's libm calls at the frames last given and branch `beta`, for a
-    /// direction along an orientation: where the memo holds them, else recorded into `record`
-    /// (then given to `remember`).
+    /// direction along an orientation: where the memo holds them (also from a read), else
+    /// recorded into `record` (then given to `remember`).
     pub(super) fn trig<'m>(
         &'m self,
         beta: Real,
         record: &'m mut Option<TriadTrig>,
     ) -> TriadSource<'m, Dual> {
-        match &self.trig {
-            Some((k, trig)) if *k == beta.to_bits() => TriadSource::Trig(trig),
+        let key = beta.to_bits();
+        match (&self.trig, &self.read) {
+            (Some((k, trig)), _) | (_, Some((k, _, trig))) if *k == key => TriadSource::Trig(trig),
             _ => TriadSource::RecordTrig(record),
         }
     }

@@ -18,13 +18,15 @@ use crate::model::access::{nodes_of, non_finite_cause};
 use crate::model::slots::{real_tables, RealTables};
 use crate::model::snapshot::{NodeInputs, PoseTwist, Snapshot, POSE_TWIST};
 use crate::model::variables::{table, Table, Variant};
-use crate::physics::connector::{evaluate_into, evaluate_pose, Outputs, State};
+use crate::physics::connector::{evaluate_pose, Outputs, State};
 use crate::physics::friction::Eval;
 use crate::physics::init::{initial_state, initial_state_at};
-use crate::physics::kinematics::{ConnectionType, Node, NodeDual, Pose, Singular, TriadSource};
+use crate::physics::kinematics::{
+    Computed, ConnectionType, Known, Node, NodeDual, Pose, Singular, TriadSource,
+};
 use crate::physics::math::{Dual, Real};
 use cache::OutputCache;
-use memo::{PointMemo, VrMemo};
+use memo::{quat_bits, PointMemo, VrMemo};
 
 #[cfg(test)]
 mod tangent_tests;
@@ -335,7 +337,7 @@ impl ModelInstance {
     /// state the instance would start from at those inputs).
     fn evaluate_at(&self, inputs: &[NodeInputs; 2], mode: Eval) -> FmuResult<Outputs> {
         let mut o = Outputs::default();
-        evaluate_at_into(self.table, self.ct, &self.s, inputs, mode, &mut o)?;
+        evaluate_at_into(self.table, self.ct, &self.s, inputs, mode, &mut o, None)?;
         Ok(o)
     }
 
@@ -381,24 +383,36 @@ impl ModelInstance {
         Ok(())
     }
 
-    /// Outputs at the current inputs and committed state, cached until something changes.
+    /// Outputs at the current inputs and committed state, cached until something changes. A
+    /// centred triad computed on the way is kept for the directional derivatives at the same
+    /// point (`PointMemo::read`): a linear-implicit master reads the loads there first.
+    #[inline]
     fn outputs(&mut self) -> FmuResult<&Outputs> {
         if self.cache.get().is_none() {
-            let s = &self.s;
-            evaluate_at_into(
-                self.table,
-                self.ct,
-                s,
-                &s.inputs,
-                Eval::Read,
-                self.cache.spare(),
-            )?;
-            self.cache.commit_spare();
+            self.read_outputs()?;
         }
         // just filled when it was empty
         self.cache
             .get()
             .ok_or_else(|| FmuError::error("no outputs"))
+    }
+
+    /// `outputs` where the cache is empty: the evaluation, out of line (a read after a step,
+    /// the usual one, finds the step's outputs cached).
+    #[inline(never)]
+    fn read_outputs(&mut self) -> FmuResult<()> {
+        let s = &self.s;
+        evaluate_at_into(
+            self.table,
+            self.ct,
+            s,
+            &s.inputs,
+            Eval::Read,
+            self.cache.spare(),
+            self.ct.centred().then_some(&mut self.point_memo),
+        )?;
+        self.cache.commit_spare();
+        Ok(())
     }
 
     /// fmi2GetFMUstate.
@@ -443,7 +457,9 @@ impl ModelInstance {
 }
 
 /// Outputs at `inputs` with the committed state of `s` (in initialization: with the state the
-/// instance would start from at those inputs), written into `o`.
+/// instance would start from at those inputs), written into `o`; with `memo`, the centred
+/// triad is the one it holds for these inputs, else computed there (`PointMemo::read`).
+#[allow(clippy::too_many_arguments)]
 fn evaluate_at_into(
     t: &Table,
     ct: ConnectionType,
@@ -451,6 +467,7 @@ fn evaluate_at_into(
     inputs: &[NodeInputs; 2],
     mode: Eval,
     o: &mut Outputs,
+    memo: Option<&mut PointMemo>,
 ) -> FmuResult<()> {
     let (a, b) = nodes_of(inputs)?;
     let init;
@@ -461,7 +478,23 @@ fn evaluate_at_into(
         &s.state
     };
     let mut next = State::default();
-    evaluate_into(ct, &s.params, st, &a, &b, mode, (o, &mut next)).map_err(singular_error)?;
+    let pose = Pose::of(&a, &b);
+    let known = match memo {
+        Some(memo) => {
+            let quat = |n: usize| [inputs[n][3], inputs[n][4], inputs[n][5], inputs[n][6]];
+            let quats = quat_bits([quat(0), quat(1)]);
+            let frames = [pose.ra, pose.rb];
+            memo.read(quats, &frames, st.branches.beta)
+                .map_err(singular_error)?
+        }
+        None => None,
+    };
+    let out = (&mut *o, &mut next);
+    match known {
+        Some(triad) => evaluate_pose(ct, &s.params, st, &pose, Known(triad), mode, out),
+        None => evaluate_pose(ct, &s.params, st, &pose, Computed, mode, out),
+    }
+    .map_err(singular_error)?;
     (o.event_time, o.event_count) = (s.event.time, s.event.count);
     if !crate::physics::step::outputs_finite(o) {
         return Err(FmuError::error(format!(

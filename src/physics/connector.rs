@@ -8,8 +8,8 @@
 
 use super::friction::{self, Eval, FrictionOut, FrictionParams, FrictionState};
 use super::kinematics::{
-    geometry_into, with_constant_type, Branches, ConnectionType, Geometry, Node, Pose, Role,
-    Singular, TriadSource,
+    geometry_into, with_constant_type, Branches, Computed, ConnectionType, Geometry, Node, Pose,
+    Role, Singular, Triads,
 };
 use super::math::{lift, Real, Scalar, Vec3};
 
@@ -268,7 +268,7 @@ pub fn evaluate_into(
     mode: Eval,
     out: (&mut Outputs, &mut State),
 ) -> Result<(), Singular> {
-    evaluate_pose(ct, p, st, &Pose::of(a, b), TriadSource::Compute, mode, out)
+    evaluate_pose(ct, p, st, &Pose::of(a, b), Computed, mode, out)
 }
 
 /// `evaluate_into` at a pose, in any scalar: with `Dual` (the inputs seeded along a direction)
@@ -280,7 +280,7 @@ pub fn evaluate_pose<T: Scalar>(
     p: &Params,
     st: &State<T>,
     pose: &Pose<T>,
-    triad: TriadSource<T>,
+    triad: impl Triads<T>,
     mode: Eval,
     out: (&mut Outputs<T>, &mut State<T>),
 ) -> Result<(), Singular> {
@@ -297,7 +297,7 @@ fn evaluate_body<T: Scalar>(
     p: &Params,
     st: &State<T>,
     pose: &Pose<T>,
-    triad: TriadSource<T>,
+    triad: impl Triads<T>,
     mode: Eval,
     (o, next): (&mut Outputs<T>, &mut State<T>),
 ) -> Result<(), Singular> {

@@ -3,7 +3,7 @@
 use super::connector::{evaluate_pose, Outputs, Params, State};
 use super::friction::Eval;
 use super::kinematics::{
-    geometry_into, Branches, ConnectionType, Geometry, Node, Pose, Singular, TriadSource,
+    geometry_into, Branches, Computed, ConnectionType, Geometry, Node, Pose, Singular,
 };
 use super::math::Scalar;
 
@@ -29,7 +29,7 @@ pub fn initial_state_at<T: Scalar>(
     pose: &Pose<T>,
 ) -> Result<State<T>, Singular> {
     let mut g = Geometry::blank();
-    geometry_into(ct, pose, &Branches::default(), TriadSource::Compute, &mut g)?;
+    geometry_into(ct, pose, &Branches::default(), Computed, &mut g)?;
     let mut st = State {
         branches: g.branches,
         c0: g.pos,
@@ -38,15 +38,7 @@ pub fn initial_state_at<T: Scalar>(
     st.friction.slip_plastic = [g.pos[1], g.pos[2]];
     st.friction.slip_plastic_r1 = g.pos[3];
     let (mut o, mut next) = (Outputs::default(), State::default());
-    evaluate_pose(
-        ct,
-        p,
-        &st,
-        pose,
-        TriadSource::Compute,
-        Eval::Start,
-        (&mut o, &mut next),
-    )?;
+    evaluate_pose(ct, p, &st, pose, Computed, Eval::Start, (&mut o, &mut next))?;
     st.stop_status = next.stop_status;
     st.friction.status = next.friction.status;
     st.friction.status_r1 = next.friction.status_r1;

@@ -636,14 +636,117 @@ pub fn centred<T: Scalar>(
     centred_with(ra, rb, beta_prev, Calls)
 }
 
-/// How `geometry_into` comes by the centred triad at a pose's orientations (in `Dual`: the
-/// directional derivatives, which all need the same one at a point).
+/// How `geometry_into` comes by the centred triad at a pose's orientations: `Computed` (the
+/// step), or as a `TriadSource` says (a read and the directional derivatives, which all need
+/// the same one at a point). A type of its own for the step, so that its code has no branch
+/// on it.
+pub trait Triads<T: Scalar> {
+    /// The centred triad at frames `ra`, `rb` and torsion branch `beta` (`fixed`: the frames
+    /// are constants along the seeded direction); where one is computed, in `slot`.
+    fn centred<'s>(
+        self,
+        ra: &Mat3<T>,
+        rb: &Mat3<T>,
+        beta: Real,
+        fixed: bool,
+        slot: &'s mut Option<Centred<T>>,
+    ) -> Result<&'s Centred<T>, Singular>
+    where
+        Self: 's;
+}
+
+/// The centred triad computed (in Real and lifted where the frames are constants).
+#[inline(always)]
+fn computed<T: Scalar>(
+    ra: &Mat3<T>,
+    rb: &Mat3<T>,
+    beta: Real,
+    fixed: bool,
+) -> Result<Centred<T>, Singular> {
+    if fixed {
+        Ok(centred(&ra.map(|x| x.re()), &rb.map(|x| x.re()), beta)?.lift())
+    } else {
+        centred(ra, rb, beta)
+    }
+}
+
+/// Every triad computed: the step's evaluations.
+pub struct Computed;
+
+impl<T: Scalar> Triads<T> for Computed {
+    #[inline(always)]
+    fn centred<'s>(
+        self,
+        ra: &Mat3<T>,
+        rb: &Mat3<T>,
+        beta: Real,
+        fixed: bool,
+        slot: &'s mut Option<Centred<T>>,
+    ) -> Result<&'s Centred<T>, Singular>
+    where
+        Self: 's,
+    {
+        Ok(slot.insert(computed(ra, rb, beta, fixed)?))
+    }
+}
+
+/// A triad the caller computed at these frames and branch (a read at the current inputs).
+pub struct Known<'a, T: Scalar>(pub &'a Centred<T>);
+
+impl<'a, T: Scalar> Triads<T> for Known<'a, T> {
+    #[inline(always)]
+    fn centred<'s>(
+        self,
+        ra: &Mat3<T>,
+        rb: &Mat3<T>,
+        beta: Real,
+        fixed: bool,
+        slot: &'s mut Option<Centred<T>>,
+    ) -> Result<&'s Centred<T>, Singular>
+    where
+        Self: 's,
+    {
+        TriadSource::Given(self.0).centred(ra, rb, beta, fixed, slot)
+    }
+}
+
+impl<'a, T: Scalar> Triads<T> for TriadSource<'a, T> {
+    #[inline(always)]
+    fn centred<'s>(
+        self,
+        ra: &Mat3<T>,
+        rb: &Mat3<T>,
+        beta: Real,
+        fixed: bool,
+        slot: &'s mut Option<Centred<T>>,
+    ) -> Result<&'s Centred<T>, Singular>
+    where
+        Self: 's,
+    {
+        match self {
+            TriadSource::Given(c) if fixed || !T::DUAL => Ok(c),
+            TriadSource::Trig(trig) if T::DUAL && !fixed => {
+                Ok(slot.insert(centred_with(ra, rb, beta, trig)?))
+            }
+            TriadSource::RecordTrig(record) if T::DUAL && !fixed => {
+                let mut trig = TriadTrig::default();
+                let c = centred_with(ra, rb, beta, &mut trig)?;
+                *record = Some(trig);
+                Ok(slot.insert(c))
+            }
+            _ => Ok(slot.insert(computed(ra, rb, beta, fixed)?)),
+        }
+    }
+}
+
+/// Where a read or a directional derivative takes the centred triad from (`Triads`).
 #[derive(Debug)]
 pub enum TriadSource<'a, T: Scalar> {
-    /// Computed (every evaluation in Real).
+    /// Computed.
     Compute,
-    /// The caller has it, computed in Real at these frames and torsion branch, as a constant:
-    /// read where the orientations are constants along the seeded direction (`constant`).
+    /// The caller has it, computed in Real at these frames and torsion branch: read in Real,
+    /// and in `Dual` (as a constant) where the orientations are constants along the seeded
+    /// direction (`constant`).
     Given(&'a Centred<T>),
     /// The caller has the values of its libm calls at these frames and branch.
     Trig(&'a TriadTrig),
@@ -839,7 +942,7 @@ pub fn geometry(
     prev: &Branches,
 ) -> Result<Geometry, Singular> {
     let mut g = Geometry::blank();
-    geometry_into(ct, &Pose::of(a, b), prev, TriadSource::Compute, &mut g)?;
+    geometry_into(ct, &Pose::of(a, b), prev, Computed, &mut g)?;
     Ok(g)
 }
 
@@ -849,19 +952,19 @@ pub fn geometry(
 /// triad is node a's frame, `k` zero without FLEXION-TORSION); on an error its contents are
 /// unspecified.
 ///
-/// `triad`: how the centred triad of this pose's orientations at `prev.beta` is come by
-/// (`TriadSource`; in `Real` always computed).
+/// `triads`: how the centred triad of this pose's orientations at `prev.beta` is come by
+/// (`Triads`).
 ///
 /// A caller that starts from `Geometry::blank()` (all zero) lets the compiler drop that
 /// zeroing where this function overwrites it: with the connection type a constant, every store
 /// below is to a known place (a `Result<Geometry, _>` returned by value was copied instead, and
 /// so was a start from a geometry with an identity triad, which is not zero bits).
 #[inline(always)]
-pub fn geometry_into<T: Scalar>(
+pub fn geometry_into<T: Scalar, S: Triads<T>>(
     ct: ConnectionType,
     pose: &Pose<T>,
     prev: &Branches,
-    triad: TriadSource<T>,
+    triads: S,
     g: &mut Geometry<T>,
 ) -> Result<(), Singular> {
     let (ra, rb, d) = (pose.ra, pose.rb, pose.d);
@@ -886,28 +989,8 @@ pub fn geometry_into<T: Scalar>(
         // leaves the triad alone too: the caller's (`known`) or computed in Real (the same
         // values), lifted
         let fixed = T::DUAL && constant(&ra) && constant(&rb);
-        let computed;
-        let cen = match triad {
-            TriadSource::Given(c) if fixed => c,
-            TriadSource::Trig(trig) if T::DUAL && !fixed => {
-                computed = centred_with(&ra, &rb, prev.beta, trig)?;
-                &computed
-            }
-            TriadSource::RecordTrig(slot) if T::DUAL && !fixed => {
-                let mut trig = TriadTrig::default();
-                computed = centred_with(&ra, &rb, prev.beta, &mut trig)?;
-                *slot = Some(trig);
-                &computed
-            }
-            _ => {
-                computed = if fixed {
-                    centred(&ra.map(|x| x.re()), &rb.map(|x| x.re()), prev.beta)?.lift()
-                } else {
-                    centred(&ra, &rb, prev.beta)?
-                };
-                &computed
-            }
-        };
+        let mut slot = None;
+        let cen = triads.centred(&ra, &rb, prev.beta, fixed, &mut slot)?;
         g.triad = cen.triad;
         g.branches.beta = cen.angles.z.re();
         g.tri_a = cen.a;
