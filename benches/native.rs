@@ -1205,7 +1205,8 @@ fn continuous_outputs(v: Variant) -> Vec<u32> {
 
 /// BENCH_TANGENT=1: what a directional derivative costs against one kernel evaluation, on
 /// every variant with its behaviours on, a quarter period into its path. Interleaved batches,
-/// each call sequence at a new point (one node input set to another value first):
+/// each call sequence at a new point (the seed's input and an orientation input set to other
+/// values first: everything moves, as from one communication point to the next):
 /// (e) fmi2SetReal of one input + fmi2GetReal of one output: one kernel evaluation at the new
 ///     inputs, plus the two calls;
 /// (d) (e) + fmi2GetDirectionalDerivative of every continuous output along one node input
@@ -1242,8 +1243,25 @@ fn tangent_cost(only: Option<&str>) {
             )
             .map(|x| x.vr)
             .collect();
-        let mut x = 0.0;
-        ok(f.env, fmi::fmi2GetReal(f.c, &seed, 1, &mut x), "seed input");
+        // the point moves along the seed's input and an orientation (as in a co-simulation,
+        // where everything moves from one point to the next: nothing the kernel computes
+        // from the orientations carries over)
+        let turn = ["b.q.x", "a.q.x"]
+            .iter()
+            .find_map(|n| vr_of(n))
+            .expect("an orientation input");
+        let moved: Vec<u32> = if turn == seed {
+            vec![seed]
+        } else {
+            vec![seed, turn]
+        };
+        let mut x = vec![0.0; moved.len()];
+        ok(
+            f.env,
+            fmi::fmi2GetReal(f.c, moved.as_ptr(), moved.len(), x.as_mut_ptr()),
+            "moved inputs",
+        );
+        let mut u = x.clone();
         let mut dd = vec![0.0; cont.len()];
         let (mut e, mut d, mut j) = (vec![], vec![], vec![]);
         const N: usize = 1000;
@@ -1251,9 +1269,15 @@ fn tangent_cost(only: Option<&str>) {
         let mut batch = |derivatives: &[u32], f: &mut Inst| {
             let t0 = Instant::now();
             for i in 0..N {
-                // alternate between two values, so that every call sequence is at a new point
-                let u = x + if i % 2 == 0 { 1e-9 } else { 0.0 };
-                ok(f.env, fmi::fmi2SetReal(f.c, &seed, 1, &u), "set");
+                // alternate between two points, so that every call sequence is at a new one
+                for (u, x) in u.iter_mut().zip(&x) {
+                    *u = x + if i % 2 == 0 { 1e-9 } else { 0.0 };
+                }
+                ok(
+                    f.env,
+                    fmi::fmi2SetReal(f.c, moved.as_ptr(), moved.len(), u.as_ptr()),
+                    "set",
+                );
                 ok(f.env, fmi::fmi2GetReal(f.c, &cont[0], 1, &mut y), "get");
                 for k in derivatives {
                     let s = fmi::fmi2GetDirectionalDerivative(
