@@ -150,7 +150,8 @@ pub struct ModelInstance {
     /// The unknowns of the last directional derivative, with their rows in
     /// `access::continuous_row`.
     unknown_memo: VrMemo,
-    /// The frames and centred triad of the last directional derivative's point.
+    /// The frames and centred triad of the last point read (at new inputs) or differentiated
+    /// at.
     point_memo: PointMemo,
     /// Where a directional derivative evaluates the kernel in `Dual`.
     tangent: Box<TangentBuffers>,

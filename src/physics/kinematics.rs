@@ -634,9 +634,9 @@ pub fn centred<T: Scalar>(
 }
 
 /// How `geometry_into` comes by the centred triad at a pose's orientations: `Computed` (the
-/// step), or as a `TriadSource` says (a read and the directional derivatives, which all need
-/// the same one at a point). A type of its own for the step, so that its code has no branch
-/// on it.
+/// step), `Known` (a read, whose triad `instance::memo::PointMemo` computed and keeps), or as a
+/// `TriadSource` says (the directional derivatives, which all need the same one at a point). A
+/// type for each, so that the step's code has no branch on it.
 pub trait Triads<T: Scalar> {
     /// The centred triad at frames `ra`, `rb` and torsion branch `beta` (`fixed`: the frames
     /// are constants along the seeded direction); where one is computed, in `slot`.
@@ -800,9 +800,9 @@ impl TriadLibm for &mut TriadTrig {
     }
 }
 
-/// The values taken from an evaluation at the same pose (in Real: the directional
-/// derivatives along an orientation at a point whose triad is known), not computed again:
-/// the same results bit for bit.
+/// The values known from the same pose's triad computed in Real (a directional derivative
+/// along an orientation at a point whose triad was computed): not computed again, the same
+/// results bit for bit.
 impl TriadLibm for &TriadTrig {
     #[inline(always)]
     fn atan2<T: Scalar>(&mut self, i: usize, y: T, x: T) -> T {
