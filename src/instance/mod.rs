@@ -22,7 +22,7 @@ use crate::physics::connector::{evaluate_pose, Outputs, State};
 use crate::physics::friction::Eval;
 use crate::physics::init::{initial_state, initial_state_at};
 use crate::physics::kinematics::{
-    Computed, ConnectionType, Known, Node, NodeDual, Pose, Singular, TriadSource,
+    Computed, ConnectionType, Node, NodeDual, Pose, Singular, TriadSource,
 };
 use crate::physics::math::{Dual, Real};
 use cache::OutputCache;
@@ -492,7 +492,15 @@ fn evaluate_at_into(
     };
     let out = (&mut *o, &mut next);
     match known {
-        Some(triad) => evaluate_pose(ct, &s.params, st, &pose, Known(triad), mode, out),
+        Some(triad) => evaluate_pose(
+            ct,
+            &s.params,
+            st,
+            &pose,
+            TriadSource::Given(triad),
+            mode,
+            out,
+        ),
         None => evaluate_pose(ct, &s.params, st, &pose, Computed, mode, out),
     }
     .map_err(singular_error)?;

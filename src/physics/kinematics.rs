@@ -86,47 +86,24 @@ pub struct ConnectionType {
 /// body per connection type of the variants (the branches on the type and its roles fold
 /// away in each); other pairings take the general copy, `$c` = `$ct`.
 macro_rules! with_constant_type {
-    ($ct:expr, |$c:ident| $body:expr) => {{
+    ($ct:expr, |$c:ident| $body:expr) => {
+        with_constant_type!(@types $ct, $c, $body;
+            (SlidePlane, Revolute),
+            (ProjectionCartesian, None),
+            (None, ProjectionFlexionTorsion),
+            (ProjectionCartesian, ProjectionFlexionTorsion),
+            (RadialThrust, None))
+    };
+    (@types $ct:expr, $c:ident, $body:expr; $(($t:ident, $r:ident)),*) => {{
         use $crate::physics::kinematics::{
             ConnectionType as Ct, Rotational as R, Translational as T,
         };
         let ct: Ct = $ct;
         match (ct.trans, ct.rot) {
-            (T::SlidePlane, R::Revolute) => {
-                const $c: Ct = Ct {
-                    trans: T::SlidePlane,
-                    rot: R::Revolute,
-                };
+            $((T::$t, R::$r) => {
+                const $c: Ct = Ct { trans: T::$t, rot: R::$r };
                 $body
-            }
-            (T::ProjectionCartesian, R::None) => {
-                const $c: Ct = Ct {
-                    trans: T::ProjectionCartesian,
-                    rot: R::None,
-                };
-                $body
-            }
-            (T::None, R::ProjectionFlexionTorsion) => {
-                const $c: Ct = Ct {
-                    trans: T::None,
-                    rot: R::ProjectionFlexionTorsion,
-                };
-                $body
-            }
-            (T::ProjectionCartesian, R::ProjectionFlexionTorsion) => {
-                const $c: Ct = Ct {
-                    trans: T::ProjectionCartesian,
-                    rot: R::ProjectionFlexionTorsion,
-                };
-                $body
-            }
-            (T::RadialThrust, R::None) => {
-                const $c: Ct = Ct {
-                    trans: T::RadialThrust,
-                    rot: R::None,
-                };
-                $body
-            }
+            })*
             _ => {
                 #[allow(non_snake_case)]
                 let $c = ct;
@@ -634,9 +611,9 @@ pub fn centred<T: Scalar>(
 }
 
 /// How `geometry_into` comes by the centred triad at a pose's orientations: `Computed` (the
-/// step), `Known` (a read, whose triad `instance::memo::PointMemo` computed and keeps), or as a
-/// `TriadSource` says (the directional derivatives, which all need the same one at a point). A
-/// type for each, so that the step's code has no branch on it.
+/// step), or as a `TriadSource` says (a read, whose triad `instance::memo::PointMemo`
+/// computed and keeps; the directional derivatives, which all need the same one at a point).
+/// A type of its own for the step, so that its code has no branch on it.
 pub trait Triads<T: Scalar> {
     /// The centred triad at frames `ra`, `rb` and torsion branch `beta` (`fixed`: the frames
     /// are constants along the seeded direction); where one is computed, in `slot`.
@@ -684,26 +661,6 @@ impl<T: Scalar> Triads<T> for Computed {
         Self: 's,
     {
         Ok(slot.insert(computed(ra, rb, beta, fixed)?))
-    }
-}
-
-/// A triad the caller computed at these frames and branch (a read at the current inputs).
-pub struct Known<'a, T: Scalar>(pub &'a Centred<T>);
-
-impl<'a, T: Scalar> Triads<T> for Known<'a, T> {
-    #[inline(always)]
-    fn centred<'s>(
-        self,
-        ra: &Mat3<T>,
-        rb: &Mat3<T>,
-        beta: Real,
-        fixed: bool,
-        slot: &'s mut Option<Centred<T>>,
-    ) -> Result<&'s Centred<T>, Singular>
-    where
-        Self: 's,
-    {
-        TriadSource::Given(self.0).centred(ra, rb, beta, fixed, slot)
     }
 }
 
