@@ -389,8 +389,15 @@ impl ModelInstance {
     /// point (`PointMemo::read`): a linear-implicit master reads the loads there first.
     #[inline]
     fn outputs(&mut self) -> FmuResult<&Outputs> {
+        self.outputs_keeping(true)
+    }
+
+    /// `outputs`, the triad kept only with `keep` (a step's own read at its start is not
+    /// followed by derivatives at that point: the step moves on).
+    #[inline]
+    fn outputs_keeping(&mut self, keep: bool) -> FmuResult<&Outputs> {
         if self.cache.get().is_none() {
-            self.read_outputs()?;
+            self.read_outputs(keep)?;
         }
         // just filled when it was empty
         self.cache
@@ -401,7 +408,7 @@ impl ModelInstance {
     /// `outputs` where the cache is empty: the evaluation, out of line (a read after a step,
     /// the usual one, finds the step's outputs cached).
     #[inline(never)]
-    fn read_outputs(&mut self) -> FmuResult<()> {
+    fn read_outputs(&mut self, keep: bool) -> FmuResult<()> {
         let s = &self.s;
         evaluate_at_into(
             self.table,
@@ -410,7 +417,7 @@ impl ModelInstance {
             &s.inputs,
             Eval::Read,
             self.cache.spare(),
-            self.ct.centred().then_some(&mut self.point_memo),
+            (keep && self.ct.centred()).then_some(&mut self.point_memo),
         )?;
         self.cache.commit_spare();
         Ok(())

@@ -78,7 +78,7 @@ impl ModelInstance {
         } else {
             match (&self.s.events, self.cache.get()) {
                 (Some(r), None) if r.far => Some((&r.end, false)),
-                _ => match self.outputs() {
+                _ => match self.outputs_keeping(false) {
                     Ok(_) => match self.cache.get() {
                         Some(o) => {
                             exact = events::values(self.ct, &self.s.params, &self.s.state, o);
