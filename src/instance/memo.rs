@@ -171,10 +171,7 @@ impl PointMemo {
         if self.triad.as_ref().is_none_or(|(k, _)| *k != key) {
             let (ra, rb) = (&self.frames[0], &self.frames[1]);
             let lifted = match (&self.read, &self.trig) {
-                (Some((k, cen, trig)), _) if *k == key => {
-                    self.trig = Some((key, *trig));
-                    cen.lift()
-                }
+                (Some((k, cen, _)), _) if *k == key => cen.lift(),
                 (_, Some((k, trig))) if *k == key => centred_with(ra, rb, beta, trig)?.lift(),
                 _ => {
                     let mut trig = TriadTrig::default();
