@@ -12,12 +12,12 @@
 //! an event; a later substep's event is located in that substep.
 
 use connector_fmu::physics::connector::{evaluate, Outputs, Params, State};
-use connector_fmu::physics::events::{self, Values, EVENT_TOL, N_EVENTS};
+use connector_fmu::physics::events::{self, Taking, Values, EVENT_TOL, N_EVENTS};
 use connector_fmu::physics::friction::{Eval, Status};
 use connector_fmu::physics::init::initial_state;
 use connector_fmu::physics::kinematics::{ConnectionType, Node};
 use connector_fmu::physics::math::{Quat, Vec3};
-use connector_fmu::physics::step::{advance, advance_into, Met, Rates, Tracking};
+use connector_fmu::physics::step::{advance, advance_into, Ends, Rates, Tracking};
 use connector_fmu::variables::Variant;
 
 fn ct(v: Variant) -> ConnectionType {
@@ -57,7 +57,9 @@ fn step_from(
     };
     let mut o = Outputs::default();
     let mut next = State::default();
-    let (_, b1, met) = advance_into(
+    let mut nodes = [Node::default(); 2];
+    let mut end = Taking::NONE;
+    let met = advance_into(
         ct,
         p,
         st,
@@ -70,10 +72,29 @@ fn step_from(
             stop_at_first: stop,
             min_tau: EVENT_TOL * h,
         }),
-        (&mut o, &mut next),
+        Ends {
+            outputs: &mut o,
+            state: &mut next,
+            nodes: &mut nodes,
+            events: &mut end,
+        },
     )
     .expect("regular path");
-    (o, next, b1, met)
+    let met = Met {
+        tau: met.tau,
+        count: met.count,
+        stopped: met.stopped,
+        end: end.v,
+    };
+    (o, next, nodes[1], met)
+}
+
+/// What a step met (`step::Met`) with the event functions at its end (NaN: not taking part).
+struct Met {
+    tau: f64,
+    count: u32,
+    stopped: bool,
+    end: Values,
 }
 
 /// τ located for an exact event time `exact` of a step of length h.

@@ -19,6 +19,7 @@ use crate::model::slots::{real_tables, RealTables};
 use crate::model::snapshot::{NodeInputs, PoseTwist, Snapshot, POSE_TWIST};
 use crate::model::variables::{table, Table, Variant};
 use crate::physics::connector::{evaluate_pose, Outputs, State};
+use crate::physics::events::Taking;
 use crate::physics::friction::Eval;
 use crate::physics::init::{initial_state, initial_state_at};
 use crate::physics::kinematics::{
@@ -155,6 +156,9 @@ pub struct ModelInstance {
     point_memo: PointMemo,
     /// Where a directional derivative evaluates the kernel in `Dual`.
     tangent: Box<TangentBuffers>,
+    /// Where a step writes the event functions at its end (its record, `Snapshot::events`,
+    /// takes them from here when the step is accepted).
+    event_end: Taking,
 }
 
 /// The outputs and next state of a directional derivative's evaluation in `Dual`, kept with
@@ -188,6 +192,7 @@ impl ModelInstance {
             unknown_memo: VrMemo::default(),
             point_memo: PointMemo::default(),
             tangent: Box::default(),
+            event_end: Taking::NONE,
         }
     }
 

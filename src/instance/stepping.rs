@@ -9,7 +9,7 @@ use crate::physics::connector::{Extrapolation, State};
 use crate::physics::events::{self, Values, EVENT_TOL};
 use crate::physics::kinematics::Node;
 use crate::physics::math::Real;
-use crate::physics::step::{advance_into, Met, Rates, StepError, Tracking};
+use crate::physics::step::{advance_into, Ends, Met, Rates, StepError, Tracking};
 
 impl ModelInstance {
     /// Extrapolation rates of node n for a step from t (hold; linear from the input
@@ -101,6 +101,7 @@ impl ModelInstance {
         // the outputs at t + h are evaluated into the cache's spare buffer: it becomes the
         // cache when the step is accepted, and a failed step leaves the cache as it was
         let mut next = State::default();
+        let mut ends = [Node::default(); 2];
         match advance_into(
             self.ct,
             &self.s.params,
@@ -109,10 +110,16 @@ impl ModelInstance {
             (b, &rb),
             h,
             track,
-            (self.cache.spare(), &mut next),
+            Ends {
+                outputs: self.cache.spare(),
+                state: &mut next,
+                nodes: &mut ends,
+                events: &mut self.event_end,
+            },
         ) {
-            Ok((a1, b1, met)) => {
-                let far = start.map(|(start, _)| events::far_on(&met.end, met.end_on, start));
+            Ok(met) => {
+                let end = &self.event_end;
+                let far = start.map(|(start, _)| events::far_on(&end.v, end.on, start));
                 if self.s.params.extrapolation == Extrapolation::Quadratic {
                     // the accelerations of the next step come from this step's start, also
                     // across an event (a body's acceleration is continuous where a friction
@@ -136,11 +143,16 @@ impl ModelInstance {
                 // event, judged by its change since the start (exact, or the last step's end)
                 match (far, &mut self.s.events) {
                     // in place: the record is as large as the functions' values
-                    (Some(far), Some(r)) => (r.end, r.far) = (met.end, far),
-                    (far, events) => *events = far.map(|far| EventRecord { end: met.end, far }),
+                    (Some(far), Some(r)) => (r.end, r.far) = (self.event_end.v, far),
+                    (far, events) => {
+                        *events = far.map(|far| EventRecord {
+                            end: self.event_end.v,
+                            far,
+                        })
+                    }
                 }
-                write_node(&mut self.s.inputs[0], &a1);
-                write_node(&mut self.s.inputs[1], &b1);
+                write_node(&mut self.s.inputs[0], &ends[0]);
+                write_node(&mut self.s.inputs[1], &ends[1]);
                 self.s.input_der_set = [[false; POSE_TWIST]; 2];
                 // Outputs are a function of (inputs, committed state) alone: the last substep
                 // was evaluated on the nodes exactly as they are written back, from the angle

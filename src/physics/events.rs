@@ -124,18 +124,32 @@ impl Taking {
     }
 }
 
-/// `values` with the set of the functions taking part.
-pub fn values_on(ct: ConnectionType, p: &Params, st: &State, o: &Outputs) -> Taking {
-    // one copy per connection type: its roles fold away
-    with_constant_type!(ct, |CT| values_on_body(CT, p, st, o))
-}
-
-#[inline(always)]
-fn values_on_body(ct: ConnectionType, p: &Params, st: &State, o: &Outputs) -> Taking {
-    let mut v = Taking {
+impl Taking {
+    /// No function taking part.
+    pub const NONE: Taking = Taking {
         v: [Real::NAN; N_EVENTS],
         on: 0,
     };
+}
+
+/// `values` with the set of the functions taking part.
+pub fn values_on(ct: ConnectionType, p: &Params, st: &State, o: &Outputs) -> Taking {
+    let mut v = Taking::NONE;
+    values_on_into(ct, p, st, o, &mut v);
+    v
+}
+
+/// `values_on` written into `v` (the step's path: the values go straight where they are kept).
+pub fn values_on_into(ct: ConnectionType, p: &Params, st: &State, o: &Outputs, v: &mut Taking) {
+    // one copy per connection type: its roles fold away
+    with_constant_type!(ct, |CT| values_on_body(CT, p, st, o, v))
+}
+
+#[inline(always)]
+fn values_on_body(ct: ConnectionType, p: &Params, st: &State, o: &Outputs, v: &mut Taking) {
+    // in place (assigning `Taking::NONE` is a call to memcpy)
+    v.v.fill(Real::NAN);
+    v.on = 0;
     for (k, role) in ct.roles().into_iter().enumerate() {
         if role != Role::Available {
             continue;
@@ -163,7 +177,7 @@ fn values_on_body(ct: ConnectionType, p: &Params, st: &State, o: &Outputs) -> Ta
         }
     }
     if ct.rot != Rotational::Revolute || !p.friction.enabled() {
-        return v;
+        return;
     }
     let f = &p.friction;
     let fs = &st.friction;
@@ -207,7 +221,6 @@ fn values_on_body(ct: ConnectionType, p: &Params, st: &State, o: &Outputs) -> Ta
             v.put(NORMAL_SPIN, m_r1 + f.m_int);
         }
     }
-    v
 }
 
 /// The functions that cross between `a` and `b`, as a bit mask (bit i: function i): both
@@ -276,7 +289,7 @@ pub fn values_after(
     if ct.rot != Rotational::Revolute || !p.friction.enabled() {
         // no friction functions: the stop statuses alone decide which functions take part
         if a.stop_status != b.stop_status {
-            *v = values_on(ct, p, b, o);
+            values_on_into(ct, p, b, o, v);
         }
         return;
     }
@@ -297,7 +310,7 @@ pub fn values_after(
         && fa.status_r1 == fb.status_r1
         && plastic;
     if !same {
-        *v = values_on(ct, p, b, o);
+        values_on_into(ct, p, b, o, v);
         return;
     }
     if fb.status == Status::Slip || fb.status_r1 == Status::Slip {

@@ -3,7 +3,7 @@
 //! follows in internal substeps, and the dissipated energies are integrated.
 
 use super::connector::{evaluate_into, Outputs, Params, State};
-use super::events::{self, crossed_on, locate, values, values_on, Values, EVENT_TOL};
+use super::events::{self, crossed_on, locate, values, values_on_into, Taking, Values, EVENT_TOL};
 use super::friction::Eval;
 use super::kinematics::{ConnectionType, Node, Shafts, Singular, ALPHA_MAX_GAP};
 use super::math::{quat_exp, Real, Vec3};
@@ -204,7 +204,9 @@ pub fn advance(
 ) -> Result<Advanced, StepError> {
     let mut outputs = Outputs::default();
     let mut state = *st;
-    let (a, b, _) = advance_into(
+    let mut nodes = [Node::default(); 2];
+    let mut events = Taking::NONE;
+    advance_into(
         ct,
         p,
         st,
@@ -212,8 +214,14 @@ pub fn advance(
         (b0, rb),
         h,
         None,
-        (&mut outputs, &mut state),
+        Ends {
+            outputs: &mut outputs,
+            state: &mut state,
+            nodes: &mut nodes,
+            events: &mut events,
+        },
     )?;
+    let [a, b] = nodes;
     Ok(Advanced {
         outputs,
         state,
@@ -240,6 +248,21 @@ pub struct Tracking<'a> {
     pub min_tau: Real,
 }
 
+/// Where a step writes what it ends with: the caller's own buffers (the per-step path: the
+/// outputs go straight into the instance's cache, nothing is returned by value).
+#[derive(Debug)]
+pub struct Ends<'a> {
+    /// The outputs there.
+    pub outputs: &'a mut Outputs,
+    /// The state there.
+    pub state: &'a mut State,
+    /// Nodes a and b there (extrapolated).
+    pub nodes: &'a mut [Node; 2],
+    /// The event functions there, with those taking part (`events::values_on`); written with
+    /// tracking only.
+    pub events: &'a mut Taking,
+}
+
 /// What a step met.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Met {
@@ -249,22 +272,18 @@ pub struct Met {
     pub count: u32,
     /// Whether the step stopped at the first event (then it ends at `tau`).
     pub stopped: bool,
-    /// The event functions where the step ended (NaN: not taking part; all NaN untracked).
-    pub end: Values,
-    /// Those taking part there (bit i: function i; `events::values_on`).
-    pub end_on: u32,
 }
 
-/// `advance` writing the outputs and the state at the step's end in place (the per-step path:
-/// the outputs go straight into the instance's cache); returns the nodes there and the events
-/// met. Without `track`, no event is looked for (`Met` says none).
+/// `advance` writing the outputs, the state and the nodes at the step's end into `ends` and
+/// returning the events met. Without `track`, no event is looked for (`Met` says none) and
+/// `ends.events` is left as it was.
 ///
 /// With `track`, the event functions are compared at the ends of every substep; in the first
 /// substep where one changes side its root is located (`events::locate`) on that substep's own
 /// evaluation from the state it starts from, so the event time is the time of the committed
 /// path, and with `stop_at_first` the step ends there: outputs, state and nodes at that time.
 ///
-/// On error the contents of `o` and `next` are unspecified and `st` is untouched.
+/// On error the contents of `ends` are unspecified and `st` is untouched.
 #[inline]
 #[allow(clippy::too_many_arguments)]
 pub fn advance_into(
@@ -275,8 +294,14 @@ pub fn advance_into(
     (b0, rb): (&Node, &Rates),
     h: Real,
     track: Option<Tracking>,
-    (o, next): (&mut Outputs, &mut State),
-) -> Result<(Node, Node, Met), StepError> {
+    ends: Ends,
+) -> Result<Met, StepError> {
+    let Ends {
+        outputs: o,
+        state: next,
+        nodes: ends_nodes,
+        events: end,
+    } = ends;
     let n = substeps(p, ra, rb, h)?;
     let dt = h / n as Real;
     // one substep of length dt from `s` to the nodes (a, b) at τ: evaluation, dissipated
@@ -303,8 +328,6 @@ pub fn advance_into(
         tau: h,
         count: 0,
         stopped: false,
-        end: [Real::NAN; events::N_EVENTS],
-        end_on: 0,
     };
     // the event functions at the start of the substep: the caller's (`track.start`) until the
     // exact values at τ = 0 or a substep's end replace them here; whether the first event is
@@ -355,7 +378,8 @@ pub fn advance_into(
         let s: &State = if j == 1 { st } else { prev.insert(*next) };
         substep(s, (tau, dt), (&a, &b), o, next)?;
         if let Some(track) = track {
-            let mut end = values_on(ct, p, s, o);
+            // the functions at the substep's end, written where the step's end keeps them
+            values_on_into(ct, p, s, o, end);
             let mut crossed = crossed_on(own_start.as_ref().unwrap_or(track.start), &end.v, end.on);
             if j == 1 && !track.exact && crossed != 0 {
                 // the assumed sides at τ = 0 say a function crossed: take the exact values
@@ -397,28 +421,27 @@ pub fn advance_into(
                         (a, b) = nodes(first);
                         substep(s, (first, first - tau0), (&a, &b), o, next)?;
                     }
-                    // the functions crossed at the event (not those met at the start)
-                    let at_event = values_on(ct, p, s, o);
-                    met.count =
-                        (crossed_on(start, &at_event.v, at_event.on) & !met_at_start).count_ones();
+                    // the functions crossed at the event (not those met at the start), then
+                    // those of the state the step ends with
+                    values_on_into(ct, p, s, o, end);
+                    met.count = (crossed_on(start, &end.v, end.on) & !met_at_start).count_ones();
                     met.stopped = true;
-                    let there = values_on(ct, p, next, o);
-                    (met.end, met.end_on) = (there.v, there.on);
-                    return Ok((a, b, met));
+                    values_on_into(ct, p, next, o, end);
+                    *ends_nodes = [a, b];
+                    return Ok(met);
                 }
             }
             met.count += crossed.count_ones();
             // the next substep's start: these values, made those of the state it starts from
             // (its activity and friction forces: `events::values_after`)
-            events::values_after(ct, p, (s, next), o, &mut end);
-            if j == n {
-                (met.end, met.end_on) = (end.v, end.on);
-            } else {
+            events::values_after(ct, p, (s, next), o, end);
+            if j < n {
                 own_start = Some(end.v);
             }
         }
         if j == n {
-            return Ok((a, b, met));
+            *ends_nodes = [a, b];
+            return Ok(met);
         }
     }
     // n ≥ 1, so the loop returned
