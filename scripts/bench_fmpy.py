@@ -10,7 +10,8 @@ The scenes (parameters and the periodic input path, h = 1 ms, 2000 steps per per
 Two ways of calling, the same for the connector FMU and for the empty FMU:
   ctypes  fmpy's FMI functions (FMU2Slave.fmi2SetReal / fmi2DoStep / fmi2GetReal) with
           ctypes arrays prepared once: the least Python per round, so the FMU's own cost is
-          most visible (the target, ratio <= 1.15, is judged on this one);
+          most visible (the target, ratio <= 1.10 since issue 15 (<= 1.15 before), is
+          judged on this one);
   lists   fmpy's convenience API (setReal(list, list), doStep, getReal(list)), which builds
           the ctypes arrays on every call: what most fmpy scripts do.
 Rounds per repeat N (default 5000), repeats R (default 25), repeats interleaved between the
@@ -32,7 +33,7 @@ from fmpy.fmi2 import FMU2Slave, fmi2True
 REPO = Path(__file__).resolve().parents[1]
 OUT = REPO / "out"
 EMPTY_FMU = REPO / "dist" / "bench" / "Empty.fmu"
-TARGET = 1.15
+TARGET = 1.10  # issue 15 (1.15 before it)
 
 
 class Driven:
