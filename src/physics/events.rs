@@ -117,19 +117,17 @@ pub struct Taking {
 }
 
 impl Taking {
-    #[inline(always)]
-    fn put(&mut self, i: usize, x: Real) {
-        self.v[i] = x;
-        self.on |= 1 << i;
-    }
-}
-
-impl Taking {
     /// No function taking part.
     pub const NONE: Taking = Taking {
         v: [Real::NAN; N_EVENTS],
         on: 0,
     };
+
+    #[inline(always)]
+    fn put(&mut self, i: usize, x: Real) {
+        self.v[i] = x;
+        self.on |= 1 << i;
+    }
 }
 
 /// `values` with the set of the functions taking part.
