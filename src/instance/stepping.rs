@@ -16,7 +16,20 @@ impl ModelInstance {
     /// derivatives where set and the node's own velocities elsewhere; second order, with the
     /// accelerations from the velocity inputs of the previous communication point where no
     /// input derivative gives them; or second order along the acceleration inputs).
+    #[inline]
     fn rates(&self, n: usize, node: &Node, t: Real) -> Rates {
+        if self.s.params.extrapolation == Extrapolation::Linear
+            && self.s.input_der_set[n] == [false; POSE_TWIST]
+        {
+            // the usual case, inline: along the node's own velocities
+            return Rates::from_velocities(node);
+        }
+        self.rates_general(n, node, t)
+    }
+
+    /// `rates` in general (input derivatives, second order, accelerations), out of line.
+    #[inline(never)]
+    fn rates_general(&self, n: usize, node: &Node, t: Real) -> Rates {
         let (q, der, set) = (
             &self.s.inputs[n][3..7],
             &self.s.input_der[n],
