@@ -11,7 +11,7 @@
 //! writes any component's out.
 
 use super::math::{
-    continue_branch, lift3, norm2, norm3, rotation_of, Mat3, Quat, Real, Scalar, SinCos, Vec3,
+    continue_branch, lift, lift3, norm2, norm3, rotation_of, Mat3, Quat, Real, Scalar, SinCos, Vec3,
 };
 
 /// Pose and twist of one node, all in W.
@@ -997,49 +997,18 @@ pub fn geometry_into<T: Scalar, S: Triads<T>>(
     }
 
     if ct.rot == Rotational::Revolute {
-        let (e2a, e3a): (Vec3<T>, Vec3<T>) = (ra.column(1).into(), ra.column(2).into());
-        let (e1b, e3b): (Vec3<T>, Vec3<T>) = (rb.column(0).into(), rb.column(2).into());
-        // α = −atan((e2a·e3b)/(e3a·e3b)) = atan2(Y, X), Y = −e2a·e3b, X = e3a·e3b
-        let y = -e2a.dot(&e3b);
-        let x = e3a.dot(&e3b);
-        let rr = x * x + y * y;
-        if rr.re().is_nan() || rr.re() <= 1e-12 {
-            return Err(if rr.re().is_finite() {
-                Singular::RevoluteUndefined
-            } else {
-                Singular::NotFinite
-            });
-        }
-        let alpha = continue_branch(y.atan2(x), prev.alpha);
-        g.branches.alpha = alpha.re();
-        // δ(e_ia·e_jb) = δθ_b·(e_jb × e_ia) + δθ_a·(e_ia × e_jb)
-        let dy_tb = -e3b.cross(&e2a);
-        let dy_ta = -e2a.cross(&e3b);
-        let dx_tb = e3b.cross(&e3a);
-        let dx_ta = e3a.cross(&e3b);
+        // a direction that leaves both frames alone (a seed on positions or velocities) leaves
+        // the REVOLUTE angles and their gradients alone too: computed in Real (the same values)
+        // and lifted, instead of carrying zero derivatives through every product
+        let rev = if T::DUAL && constant(&ra) && constant(&rb) {
+            revolute(&ra.map(|x| x.re()), &rb.map(|x| x.re()), prev.alpha)?.lift()
+        } else {
+            revolute(&ra, &rb, prev.alpha)?
+        };
+        g.branches.alpha = rev.pos[0].re();
         let own = g.grad.get_or_insert([Grad::zero(); 6]);
-        g.pos[3] = alpha;
-        own[3] = Grad {
-            xa: Vec3::zeros(),
-            ta: (dy_ta * x - dx_ta * y) / rr,
-            xb: Vec3::zeros(),
-            tb: (dy_tb * x - dx_tb * y) / rr,
-        };
-        // constraint rotations: φ2 = −e3a·e1b, φ3 = e2a·e1b (both 0 when e1b ∥ e1a)
-        g.pos[4] = -e3a.dot(&e1b);
-        own[4] = Grad {
-            xa: Vec3::zeros(),
-            ta: -e3a.cross(&e1b),
-            xb: Vec3::zeros(),
-            tb: -e1b.cross(&e3a),
-        };
-        g.pos[5] = e2a.dot(&e1b);
-        own[5] = Grad {
-            xa: Vec3::zeros(),
-            ta: e2a.cross(&e1b),
-            xb: Vec3::zeros(),
-            tb: e1b.cross(&e2a),
-        };
+        g.pos[3..].copy_from_slice(&rev.pos);
+        own[3..].copy_from_slice(&rev.grad);
     }
 
     if g.pos.iter().all(|p| p.re().is_finite()) {
@@ -1047,6 +1016,85 @@ pub fn geometry_into<T: Scalar, S: Triads<T>>(
     } else {
         Err(Singular::NotFinite)
     }
+}
+
+/// REVOLUTE's rotational components (slots 4–6) and their gradients: the angle α about e1
+/// and the two constraint rotations φ2, φ3.
+struct Revolute<T: Scalar> {
+    /// (α, φ2, φ3), α on its continuous branch.
+    pos: [T; 3],
+    /// Their gradients (rotations only: ∂/∂x_a = ∂/∂x_b = 0).
+    grad: [Grad<T>; 3],
+}
+
+impl Revolute<Real> {
+    /// The same components in any scalar, as constants (no derivative).
+    #[inline(always)]
+    fn lift<T: Scalar>(&self) -> Revolute<T> {
+        let g = |gr: &Grad| Grad {
+            xa: lift3(&gr.xa),
+            ta: lift3(&gr.ta),
+            xb: lift3(&gr.xb),
+            tb: lift3(&gr.tb),
+        };
+        Revolute {
+            pos: lift(self.pos),
+            grad: [g(&self.grad[0]), g(&self.grad[1]), g(&self.grad[2])],
+        }
+    }
+}
+
+/// `Revolute` for frames `ra`, `rb`, α continued from `alpha_prev`.
+#[inline(always)]
+fn revolute<T: Scalar>(
+    ra: &Mat3<T>,
+    rb: &Mat3<T>,
+    alpha_prev: Real,
+) -> Result<Revolute<T>, Singular> {
+    let (e2a, e3a): (Vec3<T>, Vec3<T>) = (ra.column(1).into(), ra.column(2).into());
+    let (e1b, e3b): (Vec3<T>, Vec3<T>) = (rb.column(0).into(), rb.column(2).into());
+    // α = −atan((e2a·e3b)/(e3a·e3b)) = atan2(Y, X), Y = −e2a·e3b, X = e3a·e3b
+    let y = -e2a.dot(&e3b);
+    let x = e3a.dot(&e3b);
+    let rr = x * x + y * y;
+    if rr.re().is_nan() || rr.re() <= 1e-12 {
+        return Err(if rr.re().is_finite() {
+            Singular::RevoluteUndefined
+        } else {
+            Singular::NotFinite
+        });
+    }
+    let alpha = continue_branch(y.atan2(x), alpha_prev);
+    // δ(e_ia·e_jb) = δθ_b·(e_jb × e_ia) + δθ_a·(e_ia × e_jb)
+    let dy_tb = -e3b.cross(&e2a);
+    let dy_ta = -e2a.cross(&e3b);
+    let dx_tb = e3b.cross(&e3a);
+    let dx_ta = e3a.cross(&e3b);
+    let zero = Vec3::zeros();
+    Ok(Revolute {
+        // constraint rotations: φ2 = −e3a·e1b, φ3 = e2a·e1b (both 0 when e1b ∥ e1a)
+        pos: [alpha, -e3a.dot(&e1b), e2a.dot(&e1b)],
+        grad: [
+            Grad {
+                xa: zero,
+                ta: (dy_ta * x - dx_ta * y) / rr,
+                xb: zero,
+                tb: (dy_tb * x - dx_tb * y) / rr,
+            },
+            Grad {
+                xa: zero,
+                ta: -e3a.cross(&e1b),
+                xb: zero,
+                tb: -e1b.cross(&e3a),
+            },
+            Grad {
+                xa: zero,
+                ta: e2a.cross(&e1b),
+                xb: zero,
+                tb: e1b.cross(&e2a),
+            },
+        ],
+    })
 }
 
 #[cfg(test)]
