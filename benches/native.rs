@@ -1231,12 +1231,16 @@ fn continuous_outputs(v: Variant) -> Vec<u32> {
 /// (j) (e) + the n derivatives of every continuous output along each input of node b in
 ///     turn (n = 13; 7 or 6 where node b has an orientation or positions only), as a
 ///     linear-implicit master asks for its Jacobian: each one evaluation in `Dual`.
+/// (dl), (jl) as (d), (j) with the node loads as the unknowns, which is what a linear-implicit
+///     master asks for (scripts/cosim/master.py): the same kernel evaluation, fewer values to
+///     hand back.
 /// Printed: ns per (e), (d), (j), the first derivative's cost ((d) − (e)) / (e), and the cost
-/// per derivative of the Jacobian ((j) − (e)) / n / (e); medians of 15 batches of 1000.
+/// per derivative of the Jacobian ((j) − (e)) / n / (e), then the same two for the loads
+/// ((dl), (jl)); medians of 15 batches of 1000.
 /// BENCH_ONLY=<variant> measures that variant alone.
 fn tangent_cost(only: Option<&str>) {
     println!(
-        "variant, ns per set+get (e), set+get+derivative (d), set+get+n derivatives (j), n, first derivative / evaluation, Jacobian per derivative / evaluation"
+        "variant, ns per set+get (e), set+get+derivative (d), set+get+n derivatives (j), n, first derivative / evaluation, Jacobian per derivative / evaluation, the same two for the node loads alone"
     );
     for v in VARIANTS {
         if only.is_some_and(|o| o != name_of(v)) {
@@ -1246,6 +1250,12 @@ fn tangent_cost(only: Option<&str>) {
         rounds(&REAL, &mut f, PERIOD / 4);
         let t = table(v);
         let cont = continuous_outputs(v);
+        let loads: Vec<u32> = t
+            .vars
+            .iter()
+            .filter(|x| matches!(x.field, Field::Load { .. }))
+            .map(|x| x.vr)
+            .collect();
         let vr_of = |n: &str| t.vars.iter().find(|x| x.name == n).map(|x| x.vr);
         let seed = ["b.r[2]", "b.r[1]", "b.q.x"]
             .iter()
@@ -1279,10 +1289,10 @@ fn tangent_cost(only: Option<&str>) {
         );
         let mut u = x.clone();
         let mut dd = vec![0.0; cont.len()];
-        let (mut e, mut d, mut j) = (vec![], vec![], vec![]);
+        let (mut e, mut d, mut j, mut dl, mut jl) = (vec![], vec![], vec![], vec![], vec![]);
         const N: usize = 1000;
         let mut y = 0.0;
-        let mut batch = |derivatives: &[u32], f: &mut Inst| {
+        let mut batch = |derivatives: &[u32], unknowns: &[u32], f: &mut Inst| {
             let t0 = Instant::now();
             for i in 0..N {
                 // alternate between two points, so that every call sequence is at a new one
@@ -1298,8 +1308,8 @@ fn tangent_cost(only: Option<&str>) {
                 for k in derivatives {
                     let s = fmi::fmi2GetDirectionalDerivative(
                         f.c,
-                        cont.as_ptr(),
-                        cont.len(),
+                        unknowns.as_ptr(),
+                        unknowns.len(),
                         k,
                         1,
                         &1.0,
@@ -1312,17 +1322,23 @@ fn tangent_cost(only: Option<&str>) {
             t0.elapsed().as_nanos() as f64 / N as f64
         };
         for _ in 0..15 {
-            e.push(batch(&[], &mut f));
-            d.push(batch(&[seed], &mut f));
-            j.push(batch(&node_b, &mut f));
+            e.push(batch(&[], &cont, &mut f));
+            d.push(batch(&[seed], &cont, &mut f));
+            j.push(batch(&node_b, &cont, &mut f));
+            dl.push(batch(&[seed], &loads, &mut f));
+            jl.push(batch(&node_b, &loads, &mut f));
         }
         let (me, md, mj) = (median(&mut e), median(&mut d), median(&mut j));
+        let (mdl, mjl) = (median(&mut dl), median(&mut jl));
+        let n = node_b.len() as f64;
         println!(
-            "{}, {me:.0}, {md:.0}, {mj:.0}, {}, {:.2}, {:.2}",
+            "{}, {me:.0}, {md:.0}, {mj:.0}, {}, {:.2}, {:.2}, {:.2}, {:.2}",
             name_of(v),
             node_b.len(),
             (md - me) / me,
-            (mj - me) / node_b.len() as f64 / me
+            (mj - me) / n / me,
+            (mdl - me) / me,
+            (mjl - me) / n / me
         );
     }
 }
