@@ -386,10 +386,12 @@ pub enum Singular {
 /// - translations x_i = e_i·d (PROJECTION CARTESIAN, SLIDE-PLANE): ∂x_i/∂x_b = e_i,
 ///   ∂x_i/∂θ_a = Aᵀ(e_i × d), ∂x_i/∂θ_b = Bᵀ(e_i × d), with A = ∂ψ/∂θ_a (`tri_a`) and
 ///   B = I − A for the centred triad, B = 0 when the triad is node a's frame (A = I);
-/// - flexion–torsion angles (α1, α2, β): ∂/∂θ_b = K (`k`, rows), ∂/∂θ_a = −K.
+/// - flexion–torsion angles (α1, α2, β): ∂/∂θ_b = K (`k`, rows), ∂/∂θ_a = −K;
+/// - REVOLUTE's α, φ2, φ3, which depend on the relative rotation only: ∂/∂θ_b = K (`k`, rows),
+///   ∂/∂θ_a = −K, ∂/∂x = 0.
 ///
 /// So the rates and the node loads need no per-component gradient (`rates`, `loads`). The
-/// other components (RADIAL-THRUST's r and l, REVOLUTE's α, φ2, φ3) carry theirs in `grad`.
+/// other components (RADIAL-THRUST's r and l) carry theirs in `grad`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Geometry<T: Scalar = Real> {
     /// Position c_k of every component (slot k−1); 0 for absent slots.
@@ -402,7 +404,8 @@ pub struct Geometry<T: Scalar = Real> {
     /// A = ∂ψ/∂θ_a of the centred triad, its rotation for a rotation of node a (zero, and not
     /// read, when the triad is node a's frame: there A = I).
     pub tri_a: Mat3<T>,
-    /// K = ∂(α1, α2, β)/∂θ_b (rows) of FLEXION-TORSION (zero for other types).
+    /// K = ∂(α1, α2, β)/∂θ_b (rows) of FLEXION-TORSION, ∂(α, φ2, φ3)/∂θ_b of REVOLUTE (zero
+    /// for other types).
     pub k: Mat3<T>,
     /// Updated branches (committed by the caller only when the step is accepted).
     pub branches: Branches,
@@ -463,6 +466,13 @@ impl<T: Scalar> Geometry<T> {
             let w = self.k * (p.wb - p.wa);
             v[3..].copy_from_slice(w.as_slice());
         }
+        if ct.rot == Rotational::Revolute {
+            // K ω_b − K ω_a, row by row (the gradient's own sum: ∂/∂x·Δv is 0)
+            for (i, vi) in v[3..].iter_mut().enumerate() {
+                let row: Vec3<T> = self.k.row(i).transpose();
+                *vi = row.dot(&p.wb) - row.dot(&p.wa);
+            }
+        }
         if let Some(own) = &self.grad {
             for k in 0..6 {
                 if roles[k] != Role::Absent && !Self::factored(ct, k) {
@@ -473,20 +483,24 @@ impl<T: Scalar> Geometry<T> {
         v
     }
 
-    /// Whether component k's gradient is kept factored (a projection).
+    /// Whether component k's gradient is kept factored (a projection, or a REVOLUTE rotation:
+    /// `k`).
     #[inline(always)]
     fn factored(ct: ConnectionType, k: usize) -> bool {
         if k < 3 {
             Self::projected_translations(ct)
         } else {
-            ct.rot == Rotational::ProjectionFlexionTorsion
+            matches!(
+                ct.rot,
+                Rotational::ProjectionFlexionTorsion | Rotational::Revolute
+            )
         }
     }
 
     /// Node loads by virtual work for component forces `f`: (m_a, f_b, m_b) = −Σ f_k (∂c_k/∂θ_a,
     /// ∂c_k/∂x_b, ∂c_k/∂θ_b); f_a = −f_b. For the translations with F = Σ f_i e_i:
     /// Σ f_i (e_i × d) = F × d, so the moments are Aᵀ(F × d) and Bᵀ(F × d); for the
-    /// flexion–torsion angles ±Kᵀ(f4, f5, f6).
+    /// flexion–torsion angles ±Kᵀ(f4, f5, f6); for REVOLUTE's rotations the same, slot by slot.
     #[inline(always)]
     pub fn loads(
         &self,
@@ -524,6 +538,16 @@ impl<T: Scalar> Geometry<T> {
                     ma -= gr.ta * fk;
                     fb -= gr.xb * fk;
                     mb -= gr.tb * fk;
+                }
+            }
+        }
+        if ct.rot == Rotational::Revolute {
+            // −f_k (∂c_k/∂θ_a, ∂c_k/∂θ_b) = f_k (K_k, −K_k), slot by slot as a gradient's own
+            for (i, &fk) in f[3..].iter().enumerate() {
+                if fk.re() != 0.0 || fk.eps() != 0.0 {
+                    let row: Vec3<T> = self.k.row(i).transpose();
+                    ma += row * fk;
+                    mb -= row * fk;
                 }
             }
         }
@@ -1006,9 +1030,8 @@ pub fn geometry_into<T: Scalar, S: Triads<T>>(
             revolute(&ra, &rb, prev.alpha)?
         };
         g.branches.alpha = rev.pos[0].re();
-        let own = g.grad.get_or_insert([Grad::zero(); 6]);
         g.pos[3..].copy_from_slice(&rev.pos);
-        own[3..].copy_from_slice(&rev.grad);
+        g.k = rev.k;
     }
 
     if g.pos.iter().all(|p| p.re().is_finite()) {
@@ -1023,23 +1046,18 @@ pub fn geometry_into<T: Scalar, S: Triads<T>>(
 struct Revolute<T: Scalar> {
     /// (α, φ2, φ3), α on its continuous branch.
     pos: [T; 3],
-    /// Their gradients (rotations only: ∂/∂x_a = ∂/∂x_b = 0).
-    grad: [Grad<T>; 3],
+    /// K = ∂(α, φ2, φ3)/∂θ_b (rows); ∂/∂θ_a = −K (each depends on the relative rotation
+    /// only), ∂/∂x_a = ∂/∂x_b = 0.
+    k: Mat3<T>,
 }
 
 impl Revolute<Real> {
     /// The same components in any scalar, as constants (no derivative).
     #[inline(always)]
     fn lift<T: Scalar>(&self) -> Revolute<T> {
-        let g = |gr: &Grad| Grad {
-            xa: lift3(&gr.xa),
-            ta: lift3(&gr.ta),
-            xb: lift3(&gr.xb),
-            tb: lift3(&gr.tb),
-        };
         Revolute {
             pos: lift(self.pos),
-            grad: [g(&self.grad[0]), g(&self.grad[1]), g(&self.grad[2])],
+            k: self.k.map(T::cst),
         }
     }
 }
@@ -1065,35 +1083,18 @@ fn revolute<T: Scalar>(
         });
     }
     let alpha = continue_branch(y.atan2(x), alpha_prev);
-    // δ(e_ia·e_jb) = δθ_b·(e_jb × e_ia) + δθ_a·(e_ia × e_jb)
+    // δ(e_ia·e_jb) = δθ_b·(e_jb × e_ia) + δθ_a·(e_ia × e_jb): the θ_a part is the θ_b part's
+    // negative
     let dy_tb = -e3b.cross(&e2a);
-    let dy_ta = -e2a.cross(&e3b);
     let dx_tb = e3b.cross(&e3a);
-    let dx_ta = e3a.cross(&e3b);
-    let zero = Vec3::zeros();
     Ok(Revolute {
         // constraint rotations: φ2 = −e3a·e1b, φ3 = e2a·e1b (both 0 when e1b ∥ e1a)
         pos: [alpha, -e3a.dot(&e1b), e2a.dot(&e1b)],
-        grad: [
-            Grad {
-                xa: zero,
-                ta: (dy_ta * x - dx_ta * y) / rr,
-                xb: zero,
-                tb: (dy_tb * x - dx_tb * y) / rr,
-            },
-            Grad {
-                xa: zero,
-                ta: -e3a.cross(&e1b),
-                xb: zero,
-                tb: -e1b.cross(&e3a),
-            },
-            Grad {
-                xa: zero,
-                ta: e2a.cross(&e1b),
-                xb: zero,
-                tb: e1b.cross(&e2a),
-            },
-        ],
+        k: Mat3::from_rows(&[
+            ((dy_tb * x - dx_tb * y) / rr).transpose(),
+            (-e1b.cross(&e3a)).transpose(),
+            e1b.cross(&e2a).transpose(),
+        ]),
     })
 }
 
