@@ -211,6 +211,19 @@ impl<T: Scalar> Grad<T> {
     }
 }
 
+/// The gradient of a RADIAL-THRUST component (r or l): it depends on the positions through d
+/// alone (∂c/∂x_a = −∂c/∂x_b) and on node a's rotation, not on node b's (∂c/∂θ_b = 0).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Radial<T: Scalar = Real> {
+    /// ∂c/∂x_b
+    pub xb: Vec3<T>,
+    /// ∂c/∂θ_a
+    pub ta: Vec3<T>,
+}
+
+/// The slots of RADIAL-THRUST's r and l (components 1 and 3), in `Geometry::radial`'s order.
+const RADIAL_SLOTS: [usize; 2] = [0, 2];
+
 /// The two nodes as the kinematics reads them: frames, relative position and twists (W).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pose<T: Scalar = Real> {
@@ -391,14 +404,14 @@ pub enum Singular {
 ///   ∂/∂θ_a = −K, ∂/∂x = 0.
 ///
 /// So the rates and the node loads need no per-component gradient (`rates`, `loads`). The
-/// other components (RADIAL-THRUST's r and l) carry theirs in `grad`.
+/// other components (RADIAL-THRUST's r and l) carry theirs in `radial`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Geometry<T: Scalar = Real> {
     /// Position c_k of every component (slot k−1); 0 for absent slots.
     pub pos: [T; 6],
-    /// Gradient of the components that are not projections (see above; zero at the other
-    /// slots), None when every component is a projection or absent.
-    pub grad: Option<[Grad<T>; 6]>,
+    /// The gradients of RADIAL-THRUST's r and l (slots 1 and 3), the components that are not
+    /// projections (see above); None for the other types.
+    pub radial: Option<[Radial<T>; 2]>,
     /// Local connector directions {e1, e2, e3} as columns (in W).
     pub triad: Mat3<T>,
     /// A = ∂ψ/∂θ_a of the centred triad, its rotation for a rotation of node a (zero, and not
@@ -418,7 +431,7 @@ impl<T: Scalar> Geometry<T> {
     pub fn blank() -> Geometry<T> {
         Geometry {
             pos: [T::zero(); 6],
-            grad: None,
+            radial: None,
             triad: Mat3::zeros(),
             tri_a: Mat3::zeros(),
             k: Mat3::zeros(),
@@ -455,7 +468,6 @@ impl<T: Scalar> Geometry<T> {
     #[inline(always)]
     pub fn rates(&self, ct: ConnectionType, p: &Pose<T>) -> [T; 6] {
         let mut v = [T::zero(); 6];
-        let roles = ct.roles();
         if Self::projected_translations(ct) {
             let u = p.dv + p.d.cross(&self.triad_rate(ct, p));
             for (i, vi) in v.iter_mut().enumerate().take(3) {
@@ -473,11 +485,9 @@ impl<T: Scalar> Geometry<T> {
                 *vi = row.dot(&p.wb) - row.dot(&p.wa);
             }
         }
-        if let Some(own) = &self.grad {
-            for k in 0..6 {
-                if roles[k] != Role::Absent && !Self::factored(ct, k) {
-                    v[k] = own[k].rate(p);
-                }
+        if let Some(own) = &self.radial {
+            for (gr, k) in own.iter().zip(RADIAL_SLOTS) {
+                v[k] = gr.xb.dot(&p.dv) + gr.ta.dot(&p.wa);
             }
         }
         v
@@ -526,18 +536,12 @@ impl<T: Scalar> Geometry<T> {
             ma += m;
             mb -= m;
         }
-        let roles = ct.roles();
-        if let Some(own) = &self.grad {
-            for k in 0..6 {
+        if let Some(own) = &self.radial {
+            for (gr, k) in own.iter().zip(RADIAL_SLOTS) {
                 let fk = f[k];
-                if roles[k] != Role::Absent
-                    && !Self::factored(ct, k)
-                    && (fk.re() != 0.0 || fk.eps() != 0.0)
-                {
-                    let gr = &own[k];
+                if fk.re() != 0.0 || fk.eps() != 0.0 {
                     ma -= gr.ta * fk;
                     fb -= gr.xb * fk;
-                    mb -= gr.tb * fk;
                 }
             }
         }
@@ -558,7 +562,16 @@ impl<T: Scalar> Geometry<T> {
     /// what `rates` and `loads` use, for tests and inspection.
     pub fn gradient(&self, ct: ConnectionType, k: usize, d: &Vec3<T>) -> Grad<T> {
         if ct.roles()[k] == Role::Absent || !Self::factored(ct, k) {
-            return self.grad.map_or(Grad::zero(), |own| own[k]);
+            let own = RADIAL_SLOTS.iter().position(|&s| s == k);
+            return match (&self.radial, own) {
+                (Some(radial), Some(i)) => Grad {
+                    xa: -radial[i].xb,
+                    ta: radial[i].ta,
+                    xb: radial[i].xb,
+                    tb: Vec3::zeros(),
+                },
+                _ => Grad::zero(),
+            };
         }
         if k < 3 {
             let e: Vec3<T> = self.triad.column(k).into();
@@ -924,8 +937,8 @@ pub fn geometry(
 }
 
 /// `geometry` at a pose, written into `g` (the per-step path, `connector::evaluate_into`: no
-/// copy of the result). Every field of `g` is overwritten (`grad` None where no component
-/// has a gradient of its own, zero at the factored slots otherwise; `tri_a` zero when the
+/// copy of the result). Every field of `g` is overwritten (`radial` None but for
+/// RADIAL-THRUST; `tri_a` zero when the
 /// triad is node a's frame, `k` zero without FLEXION-TORSION); on an error its contents are
 /// unspecified.
 ///
@@ -952,7 +965,7 @@ pub fn geometry_into<T: Scalar, S: Triads<T>>(
             g.pos[k] = T::zero();
         }
     }
-    g.grad = None;
+    g.radial = None;
     g.triad = ra;
     g.branches = *prev;
 
@@ -1002,21 +1015,18 @@ pub fn geometry_into<T: Scalar, S: Triads<T>>(
                 lift3(&prev.e_r_local)
             };
             let e_r = ra * e_r_local;
-            let own = g.grad.get_or_insert([Grad::zero(); 6]);
             g.pos[0] = r;
-            own[0] = Grad {
-                xa: -e_r,
-                ta: -e3a.cross(&e_r) * l,
-                xb: e_r,
-                tb: Vec3::zeros(),
-            };
             g.pos[2] = l;
-            own[2] = Grad {
-                xa: -e3a,
-                ta: e3a.cross(&d),
-                xb: e3a,
-                tb: Vec3::zeros(),
-            };
+            g.radial = Some([
+                Radial {
+                    xb: e_r,
+                    ta: -e3a.cross(&e_r) * l,
+                },
+                Radial {
+                    xb: e3a,
+                    ta: e3a.cross(&d),
+                },
+            ]);
         }
     }
 
