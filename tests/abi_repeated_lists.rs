@@ -282,9 +282,9 @@ fn what_was_asked_before_does_not_change_a_derivative() {
 
 #[test]
 fn the_order_of_the_directions_at_a_point_does_not_change_a_derivative() {
-    // At one point every direction shares the frames and the centred triad (remembered,
-    // src/instance/memo.rs): computed by a direction along a position or a velocity, or its
-    // libm values recorded by one along an orientation. Asked in table order (positions first)
+    // At one point every direction shares the frames and the centred triad, or REVOLUTE's
+    // rotations (remembered, src/instance/memo.rs): computed by a direction along a position
+    // or a velocity, or the triad's libm values recorded by one along an orientation. Asked in table order (positions first)
     // and with the orientations first, on two instances at the same point: the same bits.
     for spec in VARIANTS {
         let v = spec.variant;

@@ -8,10 +8,10 @@
 //! (`Run`) instead of one by one through the slot table.
 //!
 //! Also what a directional derivative's point fixes for every direction (`PointMemo`): the
-//! frames of the orientation inputs and the centred triad.
+//! frames of the orientation inputs and the centred triad, or REVOLUTE's rotations.
 
 use crate::physics::kinematics::{
-    centred_with, frame_of_raw, Centred, Singular, TriadSource, TriadTrig,
+    centred_with, frame_of_raw, revolute, Centred, Revolute, Singular, TriadSource, TriadTrig,
 };
 use crate::physics::math::{Dual, Mat3, Real};
 
@@ -98,10 +98,13 @@ impl VrMemo {
 /// orientation inputs (Real), and at a torsion branch the centred triad (computed in Real,
 /// lifted to `Dual`: the triad of every direction that leaves both orientations alone) and
 /// the values of its libm calls (which the triad of a direction along an orientation takes
-/// instead of calling libm again). A linear-implicit master reads the outputs at a point and
-/// then asks for the derivatives along every input there, so these are computed once for the
-/// read and all of them (`read`). Keyed by the bits of the raw quaternion inputs and of the
-/// branch: the same bits give the same frames and triad.
+/// instead of calling libm again); for PLANAR, REVOLUTE's rotations (Real: those of every
+/// direction that leaves both orientations alone). A linear-implicit master reads the outputs
+/// at a point and then asks for the derivatives along every input there, so these are computed
+/// once for the read and all of them (`read`; REVOLUTE's rotations are left to the first
+/// direction that needs them: keeping them at a read cost the read about a tenth more
+/// instructions than they save). Keyed by the bits of the raw quaternion inputs and of the
+/// branch: the same bits give the same frames, triad and rotations.
 #[derive(Default)]
 pub(super) struct PointMemo {
     /// The bits of the quaternion inputs (w, x, y, z of a, then of b) `frames` are of.
@@ -114,6 +117,8 @@ pub(super) struct PointMemo {
     /// The triad a read at these inputs computed (`read`): the bits of its torsion branch,
     /// the triad (Real) and the values of its libm calls.
     read: Option<(u64, Centred, TriadTrig)>,
+    /// The bits of a REVOLUTE branch α, and REVOLUTE's rotations there (Real).
+    revolute: Option<(u64, Revolute)>,
 }
 
 /// The bits of the raw quaternion inputs (w, x, y, z of node a, then of node b).
@@ -132,11 +137,16 @@ impl PointMemo {
     pub(super) fn frames(&mut self, q: [[Real; 4]; 2]) -> &[Mat3; 2] {
         let key = quat_bits(q);
         if self.quats != Some(key) {
-            self.frames = [frame_of_raw(&q[0]), frame_of_raw(&q[1])];
-            self.quats = Some(key);
-            (self.triad, self.trig, self.read) = (None, None, None);
+            self.at(key, &[frame_of_raw(&q[0]), frame_of_raw(&q[1])]);
         }
         &self.frames
+    }
+
+    /// The memo of the point whose quaternion inputs have the bits `quats` and whose frames
+    /// are `frames`: everything of another point forgotten.
+    fn at(&mut self, quats: [u64; 8], frames: &[Mat3; 2]) {
+        (self.quats, self.frames) = (Some(quats), *frames);
+        (self.triad, self.trig, self.read, self.revolute) = (None, None, None, None);
     }
 
     /// The centred triad (Real) of a read at inputs whose quaternions have the bits `quats`,
@@ -150,8 +160,7 @@ impl PointMemo {
         beta: Real,
     ) -> Result<Option<&Centred>, Singular> {
         if self.quats != Some(quats) {
-            (self.quats, self.frames) = (Some(quats), *frames);
-            (self.triad, self.trig, self.read) = (None, None, None);
+            self.at(quats, frames);
         }
         let key = beta.to_bits();
         if self.read.as_ref().is_none_or(|(k, ..)| *k != key) {
@@ -201,6 +210,21 @@ impl PointMemo {
             (Some((k, trig)), _) | (_, Some((k, _, trig))) if *k == key => TriadSource::Trig(trig),
             _ => TriadSource::RecordTrig(record),
         }
+    }
+
+    /// REVOLUTE's rotations (Real) at the frames last given and branch `alpha`: the ones the
+    /// memo holds, else computed and remembered. What every direction that leaves both
+    /// orientations alone takes, lifted (`TriadSource::Revolute`).
+    pub(super) fn revolute(&mut self, alpha: Real) -> Result<&Revolute, Singular> {
+        let key = alpha.to_bits();
+        if self.revolute.as_ref().is_none_or(|(k, _)| *k != key) {
+            let rev = revolute(&self.frames[0], &self.frames[1], alpha)?;
+            self.revolute = Some((key, rev));
+        }
+        self.revolute
+            .as_ref()
+            .map(|(_, rev)| rev)
+            .ok_or(Singular::NotFinite)
     }
 
     /// Remembers the libm values recorded at branch `beta` (`trig`), for the frames last given.

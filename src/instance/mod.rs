@@ -23,7 +23,7 @@ use crate::physics::events::Taking;
 use crate::physics::friction::Eval;
 use crate::physics::init::{initial_state, initial_state_at};
 use crate::physics::kinematics::{
-    Computed, ConnectionType, Node, NodeDual, Pose, Singular, TriadSource,
+    Computed, ConnectionType, Node, NodeDual, Pose, Rotational, Singular, TriadSource,
 };
 use crate::physics::math::{Dual, Real};
 use cache::OutputCache;
@@ -373,12 +373,17 @@ impl ModelInstance {
         // the centred triad at this point, the same for every direction (`PointMemo`): the
         // triad itself where the direction leaves both orientations alone (no seed on them;
         // `geometry_into` reads it only where the frames are constants), else the values of
-        // its libm calls, recorded where the memo does not hold them yet
+        // its libm calls, recorded where the memo does not hold them yet; REVOLUTE's rotations
+        // likewise where the direction leaves both orientations alone
         let beta = st.branches.beta;
         let mut recorded = None;
-        let triad = if !self.ct.centred() {
+        let frames_fixed = seed.iter().all(|s| s[3..7] == [0.0; 4]);
+        let triad = if self.ct.rot == Rotational::Revolute && frames_fixed {
+            let alpha = st.branches.alpha;
+            TriadSource::Revolute(self.point_memo.revolute(alpha).map_err(singular_error)?)
+        } else if !self.ct.centred() {
             TriadSource::Compute
-        } else if seed.iter().all(|s| s[3..7] == [0.0; 4]) {
+        } else if frames_fixed {
             self.point_memo.triad(beta).map_err(singular_error)?
         } else {
             self.point_memo.trig(beta, &mut recorded)

@@ -647,10 +647,11 @@ pub fn centred<T: Scalar>(
     centred_with(ra, rb, beta_prev, Calls)
 }
 
-/// How `geometry_into` comes by the centred triad at a pose's orientations: `Computed` (the
-/// step), or as a `TriadSource` says (a read, whose triad `instance::memo::PointMemo`
-/// computed and keeps; the directional derivatives, which all need the same one at a point).
-/// A type of its own for the step, so that its code has no branch on it.
+/// How `geometry_into` comes by the centred triad at a pose's orientations, and REVOLUTE's
+/// rotations: `Computed` (the step), or as a `TriadSource` says (a read, whose triad
+/// `instance::memo::PointMemo` computed and keeps; the directional derivatives, which all need
+/// the same ones at a point). A type of its own for the step, so that its code has no branch
+/// on it.
 pub trait Triads<T: Scalar> {
     /// The centred triad at frames `ra`, `rb` and torsion branch `beta` (`fixed`: the frames
     /// are constants along the seeded direction); where one is computed, in `slot`.
@@ -664,6 +665,23 @@ pub trait Triads<T: Scalar> {
     ) -> Result<&'s Centred<T>, Singular>
     where
         Self: 's;
+
+    /// REVOLUTE's rotations at frames `ra`, `rb` and branch `alpha` (`fixed`: the frames are
+    /// constants along the seeded direction): computed, unless the source has them.
+    #[inline(always)]
+    fn revolute(
+        &self,
+        ra: &Mat3<T>,
+        rb: &Mat3<T>,
+        alpha: Real,
+        fixed: bool,
+    ) -> Result<Revolute<T>, Singular> {
+        if fixed {
+            Ok(revolute(&ra.map(|x| x.re()), &rb.map(|x| x.re()), alpha)?.lift())
+        } else {
+            revolute(ra, rb, alpha)
+        }
+    }
 }
 
 /// The centred triad computed (in Real and lifted where the frames are constants).
@@ -728,9 +746,24 @@ impl<'a, T: Scalar> Triads<T> for TriadSource<'a, T> {
             _ => Ok(slot.insert(computed(ra, rb, beta, fixed)?)),
         }
     }
+
+    #[inline(always)]
+    fn revolute(
+        &self,
+        ra: &Mat3<T>,
+        rb: &Mat3<T>,
+        alpha: Real,
+        fixed: bool,
+    ) -> Result<Revolute<T>, Singular> {
+        match self {
+            TriadSource::Revolute(rev) if fixed || !T::DUAL => Ok(rev.lift()),
+            _ => Computed.revolute(ra, rb, alpha, fixed),
+        }
+    }
 }
 
-/// Where a read or a directional derivative takes the centred triad from (`Triads`).
+/// Where a read or a directional derivative takes the centred triad, or REVOLUTE's rotations,
+/// from (`Triads`).
 #[derive(Debug)]
 pub enum TriadSource<'a, T: Scalar> {
     /// Computed.
@@ -743,6 +776,10 @@ pub enum TriadSource<'a, T: Scalar> {
     Trig(&'a TriadTrig),
     /// Computed, and the values of its libm calls handed to the caller.
     RecordTrig(&'a mut Option<TriadTrig>),
+    /// No centred triad (REVOLUTE's frames are the nodes'): the caller has REVOLUTE's
+    /// rotations, computed in Real at these frames and branch: read in Real, and in `Dual` (as
+    /// constants) where the frames are constants along the seeded direction.
+    Revolute(&'a Revolute),
 }
 
 /// The values of the centred triad's libm calls at one pose (`centred_with`): atan2 for α
@@ -974,11 +1011,17 @@ pub fn geometry_into<T: Scalar, S: Triads<T>>(
     // them); `tri_a` and `k` are zero where they do not apply (see `Geometry`)
     g.tri_a = Mat3::zeros();
     g.k = Mat3::zeros();
+    // a direction that leaves both orientations alone (a seed on positions or velocities)
+    // leaves the centred triad alone, and REVOLUTE's rotations: the caller's or computed in
+    // Real (the same values), lifted, instead of carrying zero derivatives through every
+    // product
+    let fixed = T::DUAL && constant(&ra) && constant(&rb);
+    let rev = if ct.rot == Rotational::Revolute {
+        Some(triads.revolute(&ra, &rb, prev.alpha, fixed)?)
+    } else {
+        None
+    };
     if ct.centred() {
-        // a direction that leaves both orientations alone (a seed on positions or velocities)
-        // leaves the triad alone too: the caller's (`known`) or computed in Real (the same
-        // values), lifted
-        let fixed = T::DUAL && constant(&ra) && constant(&rb);
         let mut slot = None;
         let cen = triads.centred(&ra, &rb, prev.beta, fixed, &mut slot)?;
         g.triad = cen.triad;
@@ -1030,15 +1073,7 @@ pub fn geometry_into<T: Scalar, S: Triads<T>>(
         }
     }
 
-    if ct.rot == Rotational::Revolute {
-        // a direction that leaves both frames alone (a seed on positions or velocities) leaves
-        // the REVOLUTE angles and their gradients alone too: computed in Real (the same values)
-        // and lifted, instead of carrying zero derivatives through every product
-        let rev = if T::DUAL && constant(&ra) && constant(&rb) {
-            revolute(&ra.map(|x| x.re()), &rb.map(|x| x.re()), prev.alpha)?.lift()
-        } else {
-            revolute(&ra, &rb, prev.alpha)?
-        };
+    if let Some(rev) = rev {
         g.branches.alpha = rev.pos[0].re();
         g.pos[3..].copy_from_slice(&rev.pos);
         g.k = rev.k;
@@ -1053,18 +1088,19 @@ pub fn geometry_into<T: Scalar, S: Triads<T>>(
 
 /// REVOLUTE's rotational components (slots 4–6) and their gradients: the angle α about e1
 /// and the two constraint rotations φ2, φ3.
-struct Revolute<T: Scalar> {
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Revolute<T: Scalar = Real> {
     /// (α, φ2, φ3), α on its continuous branch.
-    pos: [T; 3],
+    pub pos: [T; 3],
     /// K = ∂(α, φ2, φ3)/∂θ_b (rows); ∂/∂θ_a = −K (each depends on the relative rotation
     /// only), ∂/∂x_a = ∂/∂x_b = 0.
-    k: Mat3<T>,
+    pub k: Mat3<T>,
 }
 
 impl Revolute<Real> {
     /// The same components in any scalar, as constants (no derivative).
     #[inline(always)]
-    fn lift<T: Scalar>(&self) -> Revolute<T> {
+    pub fn lift<T: Scalar>(&self) -> Revolute<T> {
         Revolute {
             pos: lift(self.pos),
             k: self.k.map(T::cst),
@@ -1074,7 +1110,7 @@ impl Revolute<Real> {
 
 /// `Revolute` for frames `ra`, `rb`, α continued from `alpha_prev`.
 #[inline(always)]
-fn revolute<T: Scalar>(
+pub fn revolute<T: Scalar>(
     ra: &Mat3<T>,
     rb: &Mat3<T>,
     alpha_prev: Real,
