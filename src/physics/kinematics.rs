@@ -6,9 +6,10 @@
 //! gradient `Grad` of a component holds ∂c/∂x_a, ∂c/∂θ_a, ∂c/∂x_b, ∂c/∂θ_b. Component
 //! velocities and node loads (virtual work) both follow from these gradients, so the loads
 //! are exactly in equilibrium and a purely elastic connector is exactly conservative. The
-//! projection components keep their gradients factored (the triad, its rotation ∂ψ/∂θ_a and
-//! the angles' Jacobian K, `Geometry::rates` and `Geometry::loads`); `Geometry::gradient`
-//! writes any component's out.
+//! projection components and REVOLUTE's rotations keep their gradients factored (the triad, its
+//! rotation ∂ψ/∂θ_a and the angles' Jacobian K, `Geometry::rates` and `Geometry::loads`);
+//! RADIAL-THRUST's r and l carry the parts of theirs that are not zero (`Radial`);
+//! `Geometry::gradient` writes any component's out.
 
 use super::math::{
     continue_branch, lift, lift3, norm2, norm3, rotation_of, Mat3, Quat, Real, Scalar, SinCos, Vec3,
