@@ -976,9 +976,8 @@ pub fn geometry(
 
 /// `geometry` at a pose, written into `g` (the per-step path, `connector::evaluate_into`: no
 /// copy of the result). Every field of `g` is overwritten (`radial` None but for
-/// RADIAL-THRUST; `tri_a` zero when the
-/// triad is node a's frame, `k` zero without FLEXION-TORSION); on an error its contents are
-/// unspecified.
+/// RADIAL-THRUST; `tri_a` zero when the triad is node a's frame, `k` zero without
+/// FLEXION-TORSION or REVOLUTE); on an error its contents are unspecified.
 ///
 /// `triads`: how the centred triad of this pose's orientations at `prev.beta` is come by
 /// (`Triads`).
