@@ -1718,7 +1718,7 @@ impl<A: Api> Program<'_, A> {
 /// The FMI 3.0 calls.
 pub struct Fmi3;
 
-use connector_fmu::model_description_fmi3::TIME_VR;
+use connector_fmu::model_description::fmi3::TIME_VR;
 
 /// A C `bool` byte from the FMI 2.0-style int (any non-zero byte is true).
 fn bool3(x: i32) -> fmi3Boolean {

@@ -15,7 +15,6 @@ pub mod fmi3;
 pub mod instance;
 pub mod model;
 pub mod model_description;
-pub mod model_description_fmi3;
 pub mod physics;
 
 /// The variable tables, at the path tests and tools use.

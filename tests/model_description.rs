@@ -2,7 +2,7 @@
 //! writes from the variable tables, and every committed variable matches its table entry.
 //! After changing a table: `cargo run --bin gen_model_description` and commit the diff.
 
-use connector_fmu::model_description::model_description;
+use connector_fmu::model_description::fmi2::model_description;
 use connector_fmu::variables::{table, Causality, VARIANTS};
 use quick_xml::events::Event;
 use quick_xml::reader::Reader;

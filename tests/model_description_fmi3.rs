@@ -7,7 +7,7 @@
 //! definitions and the same model structure (FMI 2.0 indices translated to value references).
 //! After changing a table: `cargo run --bin gen_model_description` and commit the diff.
 
-use connector_fmu::model_description_fmi3::{model_description, TIME_VR};
+use connector_fmu::model_description::fmi3::{model_description, TIME_VR};
 use connector_fmu::variables::VARIANTS;
 use quick_xml::events::Event;
 use quick_xml::reader::Reader;

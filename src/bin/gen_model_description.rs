@@ -2,8 +2,8 @@
 //! (FMI 3.0) for every variant from the variable tables.
 //! Usage: `cargo run --bin gen_model_description -- [folder]` (default `modelDescription`).
 
-use connector_fmu::model_description::model_description;
-use connector_fmu::model_description_fmi3::model_description as model_description_fmi3;
+use connector_fmu::model_description::fmi2::model_description;
+use connector_fmu::model_description::fmi3::model_description as model_description_fmi3;
 use connector_fmu::variables::VARIANTS;
 use std::path::PathBuf;
 

@@ -9,3 +9,6 @@ pub mod exports;
 pub(crate) mod logger;
 pub(crate) mod policy;
 pub mod types;
+
+#[cfg(test)]
+mod boundary_tests;

@@ -11,3 +11,6 @@ pub mod exports;
 mod logger;
 mod policy;
 pub mod types;
+
+#[cfg(test)]
+mod boundary_tests;

@@ -9,7 +9,7 @@ use crate::error::{FmuError, FmuResult};
 use crate::instance::{Call, Mode, ModelInstance};
 use crate::model::access::Ty;
 use crate::model::snapshot::Snapshot;
-use crate::model_description_fmi3::{dependencies, TIME_VR};
+use crate::model_description::fmi3::{dependencies, TIME_VR};
 
 /// fmi3GetFloat64: the table's Real variables and the independent variable `time`.
 pub(crate) fn get_float64(inst: &mut ModelInstance, vrs: &[u32], out: &mut [f64]) -> FmuResult<()> {
@@ -81,7 +81,7 @@ pub(crate) fn no_variables_of_type(
         Some(v) => FmuError::error(format!(
             "variable {} (vr {vr}) is of type {}, not {ty} (this FMU has no {ty} variables)",
             v.name,
-            crate::instance::type_name(Ty::of(&v.start), inst.version())
+            inst.version().type_name(Ty::of(&v.start))
         )),
     })
 }

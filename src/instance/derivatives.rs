@@ -5,8 +5,7 @@ use super::{Call, ModelInstance};
 use crate::error::{FmuError, FmuResult};
 use crate::model::access::{continuous_row_map, Ty};
 use crate::model::slots::NO_INDEX;
-use crate::model::snapshot::{NODE_INPUTS, POSE_TWIST};
-use crate::model::variables::{Causality, Table, Variability};
+use crate::model::variables::{Causality, Table, Variability, NODE_INPUTS, POSE_TWIST};
 use crate::physics::friction::Eval;
 use crate::physics::math::{all_finite, Real};
 

@@ -14,10 +14,10 @@ mod stepping;
 mod values;
 
 use crate::error::{Category, FmuError, FmuResult, Level};
-use crate::model::access::{nodes_of, non_finite_cause};
+use crate::model::access::{initial_snapshot, nodes_of, non_finite_cause, Ty};
 use crate::model::slots::{real_tables, RealTables};
-use crate::model::snapshot::{NodeInputs, PoseTwist, Snapshot, POSE_TWIST};
-use crate::model::variables::{table, Table, Variant};
+use crate::model::snapshot::Snapshot;
+use crate::model::variables::{table, NodeInputs, PoseTwist, Table, Variant, POSE_TWIST};
 use crate::physics::connector::{evaluate_pose, Outputs, State};
 use crate::physics::events::Taking;
 use crate::physics::friction::Eval;
@@ -33,7 +33,6 @@ use memo::{quat_bits, PointMemo, VrMemo};
 mod tangent_tests;
 
 pub use crate::model::snapshot::Mode;
-pub(crate) use values::type_name;
 
 /// The FMI version an instance answers for: it chooses the names in messages (states, types,
 /// functions); the state machine and the model are the same.
@@ -51,6 +50,17 @@ impl FmiVersion {
         match self {
             FmiVersion::V2 => "fmi2",
             FmiVersion::V3 => "fmi3",
+        }
+    }
+
+    /// A variable type as this version spells it.
+    pub fn type_name(self, ty: Ty) -> &'static str {
+        match (ty, self) {
+            (Ty::Real, FmiVersion::V2) => "Real",
+            (Ty::Integer, FmiVersion::V2) => "Integer",
+            (Ty::Real, FmiVersion::V3) => "Float64",
+            (Ty::Integer, FmiVersion::V3) => "Int32",
+            (Ty::Boolean, _) => "Boolean",
         }
     }
 
@@ -184,7 +194,7 @@ impl ModelInstance {
             logging_on,
             categories: [true; 4],
             fmi: FmiVersion::V2,
-            s: Snapshot::start(table),
+            s: initial_snapshot(table),
             early_return: false,
             cache: OutputCache::new(),
             set_memo: VrMemo::default(),
@@ -329,7 +339,7 @@ impl ModelInstance {
     /// fmi2Reset: back to start values in Mode::Instantiated.
     pub fn reset(&mut self) -> FmuResult<()> {
         self.allowed(Call::Lifecycle)?;
-        self.s = Snapshot::start(self.table);
+        self.s = initial_snapshot(self.table);
         self.cache.clear();
         Ok(())
     }

@@ -8,8 +8,10 @@ use crate::model::access::{
     node_loads, read_int_param, read_output, read_real_param, write_int, write_real, Ty,
 };
 use crate::model::slots::{RealSlot, NO_INDEX};
-use crate::model::snapshot::{Mode, NodeInputs, Snapshot};
-use crate::model::variables::{Causality, CompPar, Field, FrictionField, VarSpec, Variability};
+use crate::model::snapshot::{Mode, Snapshot};
+use crate::model::variables::{
+    Causality, CompPar, Field, FrictionField, NodeInputs, VarSpec, Variability,
+};
 use crate::physics::connector::{Outputs, Params};
 use crate::physics::math::{all_finite, Real};
 
@@ -323,19 +325,8 @@ fn var_error(vr: u32, found: Option<&VarSpec>, want: Ty, fmi: FmiVersion) -> Fmu
         Some(v) => FmuError::error(format!(
             "variable {} (vr {vr}) is of type {}, not {}",
             v.name,
-            type_name(Ty::of(&v.start), fmi),
-            type_name(want, fmi)
+            fmi.type_name(Ty::of(&v.start)),
+            fmi.type_name(want)
         )),
-    }
-}
-
-/// A variable type as the FMI version spells it.
-pub(crate) fn type_name(ty: Ty, fmi: FmiVersion) -> &'static str {
-    match (ty, fmi) {
-        (Ty::Real, FmiVersion::V2) => "Real",
-        (Ty::Integer, FmiVersion::V2) => "Integer",
-        (Ty::Real, FmiVersion::V3) => "Float64",
-        (Ty::Integer, FmiVersion::V3) => "Int32",
-        (Ty::Boolean, _) => "Boolean",
     }
 }

@@ -1,13 +1,16 @@
-//! Between the variable table and the data: what a value reference reads or writes in the
-//! parameters, the node inputs and the outputs, with the table's checks. Also the raw node
-//! inputs as physics nodes and back.
+//! The access rules, on top of the variable table (`variables`) and the data (`snapshot`): what
+//! a value reference reads or writes in the parameters, the node inputs and the outputs, with
+//! the table's checks; the snapshot a variant starts from (its table's start values); the raw
+//! node inputs as physics nodes and back. Uses `variables`, `snapshot` and physics; neither of
+//! those uses it.
 
-use super::snapshot::{NodeInputs, POSE_TWIST};
+use super::snapshot::{LastEvent, Mode, Snapshot};
 use super::variables::{
-    Causality, CompOut, CompPar, Field, FrictionField, ScalarPar, Start, Table, VarSpec,
+    Causality, CompOut, CompPar, Field, FrictionField, NodeInputs, ScalarPar, Start, Table,
+    VarSpec, NODE_INPUTS, POSE_TWIST,
 };
 use crate::error::{FmuError, FmuResult};
-use crate::physics::connector::{Extrapolation, Outputs, Params};
+use crate::physics::connector::{Extrapolation, Outputs, Params, State};
 use crate::physics::kinematics::Node;
 use crate::physics::math::{quat_from_wxyz, Real, Scalar, Vec3};
 
@@ -30,6 +33,41 @@ impl Ty {
             Start::Integer(_) => Ty::Integer,
             Start::Boolean(_) => Ty::Boolean,
         }
+    }
+}
+
+/// The snapshot a variant starts from: the start values of its table written through the
+/// access rules, nodes at the origin with identity orientation, in `Mode::Instantiated`.
+pub fn initial_snapshot(t: &Table) -> Snapshot {
+    let mut params = Params::default();
+    let mut inputs = [[0.0; NODE_INPUTS]; 2];
+    for v in &t.vars {
+        if let Start::Real(Some(x)) = v.start {
+            let _ = write_real(&mut params, &mut inputs, v, x);
+        }
+        if let Start::Integer(Some(x)) = v.start {
+            let _ = write_int(&mut params, v, x);
+        }
+    }
+    // nodes rest at the origin with identity orientation until inputs say otherwise
+    inputs[0][3] = 1.0;
+    inputs[1][3] = 1.0;
+    Snapshot {
+        variant: t.spec.variant,
+        mode: Mode::Instantiated,
+        time: 0.0,
+        start_time: 0.0,
+        params,
+        inputs,
+        input_der: [[0.0; POSE_TWIST]; 2],
+        input_der_set: [[false; POSE_TWIST]; 2],
+        state: State::default(),
+        event: LastEvent {
+            time: 0.0,
+            count: 0,
+        },
+        history: None,
+        events: None,
     }
 }
 

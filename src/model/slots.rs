@@ -2,8 +2,7 @@
 //! for the per-step calls.
 
 use super::access::{continuous_index, Ty};
-use super::snapshot::NODE_INPUTS;
-use super::variables::{Causality, Field, Table, Variability};
+use super::variables::{Causality, Field, Table, Variability, NODE_INPUTS};
 use std::sync::OnceLock;
 
 /// What fmi2SetReal / fmi2GetReal do with one value reference: the variable table reduced to

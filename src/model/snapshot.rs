@@ -1,8 +1,8 @@
-//! The instance's data: everything that influences the future (`fmi2GetFMUstate` copies it),
-//! with the start values of a variant's table.
+//! The instance's data: everything that influences the future (`fmi2GetFMUstate` copies it).
+//! Plain data over the variable table's types (`variables`); how a snapshot starts from the
+//! table's start values is an access rule (`access::initial_snapshot`).
 
-use super::access::{write_int, write_real};
-use super::variables::{Start, Table, Variant};
+use super::variables::{NodeInputs, PoseTwist, Variant, POSE_TWIST};
 use crate::physics::connector::{Params, State};
 use crate::physics::events::Values;
 use crate::physics::math::Real;
@@ -27,17 +27,6 @@ pub enum Mode {
     /// After a caught panic: only fmi2FreeInstance is left.
     Fatal = 128,
 }
-
-/// Node inputs as set (raw, before normalisation): r(3), q(4: w x y z), v(3), ω(3), and the
-/// accelerations v̇(3), ω̇(3) that `cosim.extrapolation = 3` moves the node along.
-pub type NodeInputs = [Real; NODE_INPUTS];
-/// How many inputs a node has.
-pub const NODE_INPUTS: usize = 19;
-/// The node's pose and twist: the first 13 inputs (what the outputs depend on; the ones with
-/// input derivatives).
-pub const POSE_TWIST: usize = 13;
-/// The pose and twist of a node, or their input derivatives.
-pub type PoseTwist = [Real; POSE_TWIST];
 
 /// Everything that influences the future; `fmi2GetFMUstate` copies it.
 #[derive(Clone, Debug, PartialEq)]
@@ -97,41 +86,4 @@ pub struct LastEvent {
     pub time: Real,
     /// Number of events in the last step.
     pub count: i32,
-}
-
-impl Snapshot {
-    /// The start: start values of the table, nodes at the origin with identity orientation,
-    /// in Mode::Instantiated.
-    pub fn start(t: &Table) -> Snapshot {
-        let mut params = Params::default();
-        let mut inputs = [[0.0; NODE_INPUTS]; 2];
-        for v in &t.vars {
-            if let Start::Real(Some(x)) = v.start {
-                let _ = write_real(&mut params, &mut inputs, v, x);
-            }
-            if let Start::Integer(Some(x)) = v.start {
-                let _ = write_int(&mut params, v, x);
-            }
-        }
-        // nodes rest at the origin with identity orientation until inputs say otherwise
-        inputs[0][3] = 1.0;
-        inputs[1][3] = 1.0;
-        Snapshot {
-            variant: t.spec.variant,
-            mode: Mode::Instantiated,
-            time: 0.0,
-            start_time: 0.0,
-            params,
-            inputs,
-            input_der: [[0.0; POSE_TWIST]; 2],
-            input_der_set: [[false; POSE_TWIST]; 2],
-            state: State::default(),
-            event: LastEvent {
-                time: 0.0,
-                count: 0,
-            },
-            history: None,
-            events: None,
-        }
-    }
 }

@@ -12,10 +12,10 @@
 //! setters could have produced.
 
 use super::access::{read_int_param, read_real_param, write_int, write_real};
-use super::snapshot::{
-    EventRecord, LastEvent, Mode, NodeInputs, Snapshot, NODE_INPUTS, POSE_TWIST,
+use super::snapshot::{EventRecord, LastEvent, Mode, Snapshot};
+use super::variables::{
+    Causality, CompPar, Field, NodeInputs, Start, Table, NODE_INPUTS, POSE_TWIST,
 };
-use super::variables::{Causality, CompPar, Field, Start, Table};
 use crate::physics::connector::{Energy, State};
 use crate::physics::events::N_EVENTS;
 use crate::physics::friction::{FrictionState, Status};

@@ -10,9 +10,21 @@
 //!
 //! Value references are stable across variants: the same variable has the same VR everywhere.
 
-use super::snapshot::POSE_TWIST;
 use crate::physics::kinematics::{ConnectionType, Role, Rotational, Translational};
+use crate::physics::math::Real;
 use std::sync::OnceLock;
+
+/// Node inputs as set (raw, before normalisation), in the order of `Field::Input`'s `idx`:
+/// r(3), q(4: w x y z), v(3), ω(3), and the accelerations v̇(3), ω̇(3) that
+/// `cosim.extrapolation = 3` moves the node along.
+pub type NodeInputs = [Real; NODE_INPUTS];
+/// How many inputs a node has.
+pub const NODE_INPUTS: usize = 19;
+/// The node's pose and twist: the first 13 inputs (what the outputs depend on; the ones with
+/// input derivatives).
+pub const POSE_TWIST: usize = 13;
+/// The pose and twist of a node, or their input derivatives.
+pub type PoseTwist = [Real; POSE_TWIST];
 
 /// The five packaged variants.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

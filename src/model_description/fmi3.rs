@@ -1,15 +1,15 @@
 //! The FMI 3.0 `modelDescription.xml` generated from the same variable tables as the FMI 2.0
-//! one (`model_description`): same names, value references, units, start values, causality and
+//! one (`super::fmi2`): same names, value references, units, start values, causality and
 //! variability; Real → Float64, Integer → Int32, Boolean → Boolean; `instantiationToken` is
 //! the FMI 2.0 GUID. A pure function, no I/O: the committed files under `modelDescription/fmi3/`
 //! must equal its output. The model structure (`dependencies`) is also what
 //! fmi3GetVariableDependencies answers at run time.
 
-use crate::model::variables::{table, Causality, Start, Table, Variability, Variant};
-use crate::model_description::{
-    log_categories, unit_definitions, xml_real, DefaultExperiment, LogCategories, UnitDefinitions,
-    DEFAULT_EXPERIMENT,
+use super::{
+    causality, log_categories, to_xml, unit_definitions, variability, xml_real, DefaultExperiment,
+    LogCategories, UnitDefinitions, COPYRIGHT, DEFAULT_EXPERIMENT, LICENSE,
 };
+use crate::model::variables::{table, Causality, Start, Table, Variant};
 use serde::Serialize;
 
 /// The value reference of the independent variable `time` (FMI 3.0 requires one; no table
@@ -184,33 +184,7 @@ pub fn dependencies(t: &Table, vr: u32, initial: bool) -> Option<Vec<u32>> {
 
 /// The FMI 3.0 model description of a variant as XML text.
 pub fn model_description(v: Variant) -> String {
-    let md = build(table(v));
-    let mut body = String::new();
-    let mut ser = quick_xml::se::Serializer::new(&mut body);
-    ser.indent(' ', 2);
-    // Why no `?`: serialising plain structs into a String cannot fail; an error here would
-    // be a bug in the structs above, which the drift test would show at once.
-    if md.serialize(ser).is_err() {
-        return String::new();
-    }
-    format!("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n{body}\n")
-}
-
-fn causality(c: Causality) -> &'static str {
-    match c {
-        Causality::Parameter => "parameter",
-        Causality::Input => "input",
-        Causality::Output => "output",
-    }
-}
-
-fn variability(v: Variability) -> &'static str {
-    match v {
-        Variability::Fixed => "fixed",
-        Variability::Tunable => "tunable",
-        Variability::Discrete => "discrete",
-        Variability::Continuous => "continuous",
-    }
+    to_xml(&build(table(v)))
 }
 
 fn build(t: &Table) -> ModelDescription {
@@ -274,8 +248,8 @@ fn build(t: &Table) -> ModelDescription {
         description: spec.description,
         author: env!("CARGO_PKG_AUTHORS"),
         version: env!("CARGO_PKG_VERSION"),
-        copyright: crate::model_description::COPYRIGHT,
-        license: crate::model_description::LICENSE,
+        copyright: COPYRIGHT,
+        license: LICENSE,
         generation_tool: format!("connector_fmu {}", env!("CARGO_PKG_VERSION")),
         naming: "structured",
         co_simulation: CoSimulation {

@@ -1,15 +1,13 @@
-//! `modelDescription.xml` generated from the variable tables (serde + quick-xml); a pure
-//! function, no I/O. The committed files under `modelDescription/` must equal its output.
+//! The FMI 2.0 `modelDescription.xml` of a variant, generated from its variable table (serde +
+//! quick-xml); a pure function, no I/O. The committed files under `modelDescription/` must
+//! equal its output. Uses the shared elements of `super` (units, log categories, default
+//! experiment, header) and the model's tables; nothing here is used by `fmi3`.
 
-use crate::error::Category;
-use crate::model::variables::{table, Causality, Start, Table, Variability, Variant};
-
-pub use crate::model::variables::xml_real;
-
-/// `copyright` of every model description (the LICENSE file at the repository's top).
-pub const COPYRIGHT: &str = "Copyright (c) 2026 the connector_fmu authors";
-/// `license` of every model description (Cargo.toml's licence; the text is in LICENSE).
-pub const LICENSE: &str = "MIT";
+use super::{
+    causality, log_categories, to_xml, unit_definitions, variability, DefaultExperiment,
+    LogCategories, UnitDefinitions, COPYRIGHT, DEFAULT_EXPERIMENT, LICENSE,
+};
+use crate::model::variables::{table, Start, Table, Variant};
 use serde::Serialize;
 
 /// Capability flags, declared only for what works and is tested.
@@ -87,99 +85,6 @@ struct CoSimulation {
     directional_derivative: bool,
 }
 
-/// `<UnitDefinitions>`: the units a table uses (shared by the FMI 2.0 and 3.0 generators).
-#[derive(Serialize)]
-pub(crate) struct UnitDefinitions {
-    #[serde(rename = "Unit")]
-    units: Vec<Unit>,
-}
-
-#[derive(Serialize)]
-struct Unit {
-    #[serde(rename = "@name")]
-    name: &'static str,
-    #[serde(rename = "BaseUnit")]
-    base: BaseUnit,
-}
-
-#[derive(Serialize, Default)]
-struct BaseUnit {
-    #[serde(rename = "@kg", skip_serializing_if = "is_zero")]
-    kg: i32,
-    #[serde(rename = "@m", skip_serializing_if = "is_zero")]
-    m: i32,
-    #[serde(rename = "@s", skip_serializing_if = "is_zero")]
-    s: i32,
-    #[serde(rename = "@rad", skip_serializing_if = "is_zero")]
-    rad: i32,
-}
-
-fn is_zero(x: &i32) -> bool {
-    *x == 0
-}
-
-/// `<LogCategories>` (shared by the FMI 2.0 and 3.0 generators).
-#[derive(Serialize)]
-pub(crate) struct LogCategories {
-    #[serde(rename = "Category")]
-    categories: Vec<LogCategory>,
-}
-
-#[derive(Serialize)]
-struct LogCategory {
-    #[serde(rename = "@name")]
-    name: &'static str,
-    #[serde(rename = "@description")]
-    description: String,
-}
-
-/// `<DefaultExperiment>` (shared by the FMI 2.0 and 3.0 generators).
-#[derive(Serialize)]
-pub(crate) struct DefaultExperiment {
-    #[serde(rename = "@startTime")]
-    start: &'static str,
-    #[serde(rename = "@stopTime")]
-    stop: &'static str,
-    #[serde(rename = "@stepSize")]
-    step: &'static str,
-}
-
-/// The units of `t`'s variables and of `extra` (FMI 3.0's `time`), in `UNITS` order.
-pub(crate) fn unit_definitions(t: &Table, extra: &[&str]) -> UnitDefinitions {
-    let mut used: std::collections::BTreeSet<&str> = t.vars.iter().map(|v| v.unit).collect();
-    used.extend(extra);
-    let units = UNITS
-        .iter()
-        .filter(|(n, _)| used.contains(n))
-        .map(|&(name, [kg, m, s, rad])| Unit {
-            name,
-            base: BaseUnit { kg, m, s, rad },
-        })
-        .collect();
-    UnitDefinitions { units }
-}
-
-/// The log categories, their descriptions naming the functions of FMI version `fmi` ("fmi2",
-/// "fmi3").
-pub(crate) fn log_categories(fmi: &str) -> LogCategories {
-    LogCategories {
-        categories: Category::ALL
-            .iter()
-            .map(|c| LogCategory {
-                name: c.name(),
-                description: c.description().replace("fmi2", fmi),
-            })
-            .collect(),
-    }
-}
-
-/// The default experiment: 1 s in steps of 1 ms.
-pub(crate) const DEFAULT_EXPERIMENT: DefaultExperiment = DefaultExperiment {
-    start: "0",
-    stop: "1",
-    step: "0.001",
-};
-
 #[derive(Serialize)]
 struct ModelVariables {
     #[serde(rename = "ScalarVariable")]
@@ -253,39 +158,9 @@ struct Unknown {
     dependencies: String,
 }
 
-/// Units used by the tables, with their SI base-unit exponents (kg, m, s, rad); the FMI 3.0
-/// description declares the same.
-pub const UNITS: [(&str, [i32; 4]); 15] = [
-    ("m", [0, 1, 0, 0]),
-    ("rad", [0, 0, 0, 1]),
-    ("m/s", [0, 1, -1, 0]),
-    ("rad/s", [0, 0, -1, 1]),
-    ("m/s2", [0, 1, -2, 0]),
-    ("rad/s2", [0, 0, -2, 1]),
-    ("N", [1, 1, -2, 0]),
-    ("N.m", [1, 2, -2, 0]),
-    ("J", [1, 2, -2, 0]),
-    ("N/m", [1, 0, -2, 0]),
-    ("N.s/m", [1, 0, -1, 0]),
-    ("N.m/rad", [1, 2, -2, -1]),
-    ("N.m.s/rad", [1, 2, -1, -1]),
-    ("s/m", [0, -1, 1, 0]),
-    ("s", [0, 0, 1, 0]),
-];
-
 /// The model description of a variant as XML text.
 pub fn model_description(v: Variant) -> String {
-    let t = table(v);
-    let md = build(t);
-    let mut body = String::new();
-    let mut ser = quick_xml::se::Serializer::new(&mut body);
-    ser.indent(' ', 2);
-    // Why no `?`: serialising plain structs into a String cannot fail; an error here would
-    // be a bug in the structs above, which the drift test would show at once.
-    if md.serialize(ser).is_err() {
-        return String::new();
-    }
-    format!("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n{body}\n")
+    to_xml(&build(table(v)))
 }
 
 fn build(t: &Table) -> ModelDescription {
@@ -297,17 +172,8 @@ fn build(t: &Table) -> ModelDescription {
             name: v.name.clone(),
             vr: v.vr,
             description: v.description.clone(),
-            causality: match v.causality {
-                Causality::Parameter => "parameter",
-                Causality::Input => "input",
-                Causality::Output => "output",
-            },
-            variability: match v.variability {
-                Variability::Fixed => "fixed",
-                Variability::Tunable => "tunable",
-                Variability::Discrete => "discrete",
-                Variability::Continuous => "continuous",
-            },
+            causality: causality(v.causality),
+            variability: variability(v.variability),
             ty: {
                 let (min, max) = v.range_text();
                 match v.start {
