@@ -10,7 +10,7 @@
 //! The long, coverage-guided run is `scripts/fuzz` (not CI). `FMI_FUZZ_TRACE=1` prints what
 //! each program does.
 
-#[path = "../fuzz/harness.rs"]
+#[path = "../fuzz/harness/mod.rs"]
 mod harness;
 
 use connector_fmu::variables::{table, Causality, Start, VARIANTS};

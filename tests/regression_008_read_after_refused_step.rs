@@ -13,7 +13,7 @@
 //! invariant 6 compares the outputs read after a step and after repeating it from a restored
 //! state); they are also among the committed seeds.
 
-#[path = "../fuzz/harness.rs"]
+#[path = "../fuzz/harness/mod.rs"]
 mod harness;
 
 #[test]
