@@ -8,7 +8,7 @@ use super::program::{variant_of, Inst, Program};
 use super::support::{self, CO_SIMULATION};
 use connector_fmu::fmi2::exports::*;
 use connector_fmu::fmi2::types::*;
-use connector_fmu::variables::{table, Variant};
+use connector_fmu::variables::Variant;
 use std::ffi::{c_char, c_int, CString};
 use std::ptr::null;
 
@@ -130,16 +130,14 @@ impl Api for Fmi2 {
         fmi2FreeInstance(c);
     }
     fn instantiate_valid(env: usize, v: Variant) -> Handle {
-        let cb = callbacks(env, true);
-        let guid = CString::new(table(v).guid.clone()).expect("no NUL");
-        fmi2Instantiate(
-            c"cleanup".as_ptr(),
+        let cb = support::callbacks(env);
+        let guid = support::guid(v);
+        support::instantiate_raw(
+            Some("cleanup"),
             CO_SIMULATION,
-            guid.as_ptr(),
-            null(),
-            &cb,
-            fmi2False,
-            fmi2False,
+            Some(&guid),
+            Some(&cb),
+            false,
         )
     }
 

@@ -2,7 +2,7 @@
 //! FMI 3.0 program header (token, instance name, eventModeUsed, earlyReturnAllowed, required
 //! intermediate variables, logger) and the dispatch of the operations of FMI 3.0 only, some
 //! inline (DoStep with a NULL output, the independent variable, output derivatives), the others
-//! in `fmi3_ops.rs`. Uses `api`, `program`, `steps`, `states`, `fmi3_ops` and `support`.
+//! in `fmi3_ops.rs`. Uses `api`, `program`, `steps`, `states`, `fmi3_ops` and `support` (logger, GUIDs).
 
 use super::api::{Api, Handle, St, StepOut, OK};
 use super::fmi3_ops::{adjoint, dependencies, other_interfaces, other_types, refused};
@@ -12,7 +12,7 @@ use connector_fmu::fmi2::types::fmi2Status;
 use connector_fmu::fmi3::exports::*;
 use connector_fmu::fmi3::types::*;
 use connector_fmu::model_description_fmi3::TIME_VR;
-use connector_fmu::variables::{table, Variant};
+use connector_fmu::variables::Variant;
 use std::ffi::{c_char, c_void, CString};
 use std::ptr::{null, null_mut};
 
@@ -168,7 +168,7 @@ impl Api for Fmi3 {
         fmi3FreeInstance(c);
     }
     fn instantiate_valid(env: usize, v: Variant) -> Handle {
-        let token = CString::new(table(v).guid.clone()).expect("no NUL");
+        let token = CString::new(support::guid(v)).expect("no NUL");
         fmi3InstantiateCoSimulation(
             c"cleanup".as_ptr(),
             token.as_ptr(),

@@ -2,7 +2,7 @@
 //! of the types this FMU has no variables of, the refused functions of Event Mode, clocks,
 //! configuration, Model Exchange and Scheduled Execution (invariant 9), variable dependencies,
 //! and the other instantiation functions. Uses `api`, `program`, `ops` (derivative arguments),
-//! `fmi3` (its logger) and `support`'s log.
+//! `fmi3` (its logger) and `support` (log, GUIDs).
 
 use super::api::{St, OK};
 use super::fmi3::{logger3, Fmi3};
@@ -333,7 +333,7 @@ pub(super) fn other_interfaces(p: &mut Program<'_, Fmi3>, i: usize) {
         None
     };
     let env = p.env.0 as *mut c_void;
-    let token = CString::new(table(p.variant(i).expect("live")).guid.clone()).expect("no NUL");
+    let token = CString::new(support::guid(p.variant(i).expect("live"))).expect("no NUL");
     let n0 = support::log_len(p.env.0);
     p.trace.push(format!("otherInterface[{i}] {which}"));
     let (fname, c) = if which.is_multiple_of(2) {

@@ -1,7 +1,8 @@
 //! The FMI call-sequence fuzz harness, shared by the libFuzzer target
 //! (`fuzz/fuzz_targets/fmi_calls.rs`) and its deterministic replay in `cargo test`
-//! (`tests/fuzz_smoke.rs`, included there with `#[path]`). Logger, callbacks and the checksum
-//! come from the tests' support module (`tests/common/mod.rs`, included here with `#[path]`).
+//! (`tests/fuzz_smoke.rs`, included there with `#[path]`). Logger, callbacks, GUIDs, the plain
+//! fmi2Instantiate and the checksum come from the tests' support module (`tests/common/mod.rs`,
+//! included here with `#[path]`).
 //! This file holds the program format, the numbered invariants, the entry point `run` and the
 //! module list; the other files of `fuzz/harness/` use it only for `support` and `trace_wanted`.
 //!

@@ -2,7 +2,7 @@
 //! four FMU-state slots, two serialized-state buffers, the trace), `call` (one call with the
 //! checks of `invariants.rs`), the choice of value references, the instantiation header's GUID
 //! and instance name, `run` with its clean-up, and lookups in the variable table. Uses `api`,
-//! `bytes`, `support` (log keys) and the variable table.
+//! `bytes`, `support` (log keys, GUIDs) and the variable table.
 
 use super::api::{Api, Handle, St, OK};
 use super::bytes::Bytes;
@@ -225,7 +225,7 @@ impl<'a, A: Api> Program<'a, A> {
                 *valid = false;
                 None
             }
-            _ => Some(CString::new(table(variant).guid.clone()).expect("no NUL")),
+            _ => Some(CString::new(support::guid(variant)).expect("no NUL")),
         }
     }
 
