@@ -1,5 +1,5 @@
 //! A short deterministic replay of the `fmi_calls` fuzz harness inside `cargo test`: the same
-//! program interpreter and invariants as the libFuzzer target (`fuzz/harness.rs`), run on
+//! program interpreter and invariants as the libFuzzer target (`fuzz/harness/`), run on
 //!
 //! - every committed seed in `fuzz/seeds/fmi_calls/` (lifecycle skeletons and the inputs of the
 //!   findings fixed so far, `regression_<NNN>_*`), and
