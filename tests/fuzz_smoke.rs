@@ -1,5 +1,5 @@
 //! A short deterministic replay of the `fmi_calls` fuzz harness inside `cargo test`: the same
-//! program interpreter and invariants as the libFuzzer target (`fuzz/harness.rs`), run on
+//! program interpreter and invariants as the libFuzzer target (`fuzz/harness/`), run on
 //!
 //! - every committed seed in `fuzz/seeds/fmi_calls/` (lifecycle skeletons and the inputs of the
 //!   findings fixed so far, `regression_<NNN>_*`), and
@@ -10,7 +10,7 @@
 //! The long, coverage-guided run is `scripts/fuzz` (not CI). `FMI_FUZZ_TRACE=1` prints what
 //! each program does.
 
-#[path = "../fuzz/harness.rs"]
+#[path = "../fuzz/harness/mod.rs"]
 mod harness;
 
 use connector_fmu::variables::{table, Causality, Start, VARIANTS};

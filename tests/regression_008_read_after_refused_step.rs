@@ -9,11 +9,11 @@
 //! Fixed: a refused step forgets the cache, so what is read after it is always that
 //! evaluation, with or without a restore.
 //!
-//! The two inputs the fuzzer found are replayed through the harness (`fuzz/harness.rs`, whose
+//! The two inputs the fuzzer found are replayed through the harness (`fuzz/harness/`, whose
 //! invariant 6 compares the outputs read after a step and after repeating it from a restored
 //! state); they are also among the committed seeds.
 
-#[path = "../fuzz/harness.rs"]
+#[path = "../fuzz/harness/mod.rs"]
 mod harness;
 
 #[test]
