@@ -244,22 +244,28 @@ fn paths_in(code: &str, children: &BTreeSet<String>) -> Vec<(Vec<String>, Vec<St
         v.into_iter().map(|(n, _, _)| n.clone()).collect()
     };
     let mut out = Vec::new();
-    // use declarations
+    // use declarations (also those a macro body writes, `use $crate::..`)
+    let mut uses = Vec::new();
     let mut i = 0;
     while i < b.len() {
         if starts_word(&b, i, "use") {
             let end = (i..b.len()).find(|&j| b[j] == ';').unwrap_or(b.len());
             let tree: String = b[i + 3..end].iter().collect();
-            for p in expand_use(&tree) {
+            for p in expand_use(&tree.replace("$crate", "crate")) {
                 out.push((inline_at(i), p));
             }
+            uses.push(i..end);
             i = end;
         }
         i += 1;
     }
-    // paths in the code
+    // paths in the code outside the use declarations
     let mut i = 0;
     while i < b.len() {
+        if let Some(u) = uses.iter().find(|u| u.contains(&i)) {
+            i = u.end;
+            continue;
+        }
         if ident_char(b[i]) && !ident_char(prev(&b, i)) && prev(&b, i) != ':' {
             let start = i;
             let mut j = i;

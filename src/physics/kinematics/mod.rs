@@ -13,7 +13,7 @@
 //!
 //! The parts, one per concern, each using only those before it in the order connection, pose;
 //! geometry; triad, revolute, radial_thrust; source; this file (the per-type parts never use
-//! each other, only `source` uses two of them; their tests go through `geometry`). The rest of
+//! each other, only `source` uses two of them). The rest of
 //! the crate names every item through this module (`crate::physics::kinematics::X`, re-exported
 //! below):
 //! - `connection`: the connection types and the roles of their component slots;
@@ -27,7 +27,8 @@
 //! - `source`: where the centred triad and REVOLUTE's rotations come from (`Triads`);
 //! - this file: the dispatch over the connection type (`geometry`, `geometry_into`), with the
 //!   projected translations x_i = e_i·d of PROJECTION CARTESIAN and SLIDE-PLANE (on the centred
-//!   triad, on node a's frame), and the tests across the types.
+//!   triad, on node a's frame);
+//! - `tests`: the tests of all of them (they go through the dispatch, so they sit above it).
 
 mod connection;
 mod geometry;
@@ -154,198 +155,4 @@ pub fn geometry_into<T: Scalar, S: Triads<T>>(
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::physics::math::{Quat, Real, Vec3};
-
-    pub(super) const ALL: [ConnectionType; 5] = [
-        ConnectionType {
-            trans: Translational::SlidePlane,
-            rot: Rotational::Revolute,
-        },
-        ConnectionType {
-            trans: Translational::ProjectionCartesian,
-            rot: Rotational::None,
-        },
-        ConnectionType {
-            trans: Translational::None,
-            rot: Rotational::ProjectionFlexionTorsion,
-        },
-        ConnectionType {
-            trans: Translational::ProjectionCartesian,
-            rot: Rotational::ProjectionFlexionTorsion,
-        },
-        ConnectionType {
-            trans: Translational::RadialThrust,
-            rot: Rotational::None,
-        },
-    ];
-
-    /// Deterministic pseudo-random numbers in [−1, 1] (no extra crates).
-    pub(super) struct Lcg(pub(super) u64);
-    impl Lcg {
-        pub(super) fn next(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-        }
-        pub(super) fn vec(&mut self, s: f64) -> Vec3 {
-            Vec3::new(self.next() * s, self.next() * s, self.next() * s)
-        }
-        fn node(&mut self, rot: f64) -> Node {
-            Node {
-                r: self.vec(1.0),
-                q: Quat::from_scaled_axis(self.vec(rot)),
-                v: self.vec(1.0),
-                w: self.vec(1.0),
-            }
-        }
-    }
-
-    fn moved(n: &Node, dx: Vec3, dth: Vec3) -> Node {
-        Node {
-            r: n.r + dx,
-            q: Quat::from_scaled_axis(dth) * n.q,
-            ..*n
-        }
-    }
-
-    /// The factored rates and loads against the gradients written out (which the test below
-    /// holds to central differences): ċ_k = ∇c_k·(v_a, ω_a, v_b, ω_b) and (m_a, f_b, m_b) =
-    /// −Σ f_k ∇c_k, to 1e-13 of the largest term (the sums run in a different order).
-    #[test]
-    fn factored_rates_and_loads_match_the_gradients() {
-        let mut rng = Lcg(11);
-        for ct in ALL {
-            for _ in 0..40 {
-                let (a, b) = (rng.node(1.2), rng.node(1.2));
-                let pose = Pose::of(&a, &b);
-                let Ok(g) = geometry(ct, &a, &b, &Branches::default()) else {
-                    continue;
-                };
-                let f: [Real; 6] = std::array::from_fn(|_| rng.next() * 100.0);
-                let rates = g.rates(ct, &pose);
-                let (ma, fb, mb) = g.loads(ct, &pose, &f);
-                let (mut ma_ref, mut fb_ref, mut mb_ref) =
-                    (Vec3::zeros(), Vec3::zeros(), Vec3::zeros());
-                let mut scale: Real = 1.0;
-                for k in 0..6 {
-                    let gr = g.gradient(ct, k, &pose.d);
-                    let rate_ref = gr.rate(&pose);
-                    assert!(
-                        (rates[k] - rate_ref).abs() <= 1e-13 * (1.0 + rate_ref.abs()),
-                        "{ct:?} rate {}: {} vs {rate_ref}",
-                        k + 1,
-                        rates[k]
-                    );
-                    if ct.roles()[k] == Role::Absent {
-                        assert_eq!(rates[k], 0.0);
-                        continue;
-                    }
-                    ma_ref -= gr.ta * f[k];
-                    fb_ref -= gr.xb * f[k];
-                    mb_ref -= gr.tb * f[k];
-                    scale = scale.max((gr.ta.norm() + gr.xb.norm() + gr.tb.norm()) * f[k].abs());
-                }
-                for (got, want) in [(ma, ma_ref), (fb, fb_ref), (mb, mb_ref)] {
-                    assert!(
-                        (got - want).norm() <= 1e-13 * scale,
-                        "{ct:?}: loads {got:?} vs {want:?}"
-                    );
-                }
-            }
-        }
-    }
-
-    /// Central differences of every component along 12 node motions vs the analytic gradient.
-    /// Step 1e-6 gives truncation ~1e-12·c''' and round-off ~1e-10; tolerance 1e-7 absolute.
-    #[test]
-    fn gradients_match_central_differences() {
-        let mut rng = Lcg(7);
-        for ct in ALL {
-            for _ in 0..40 {
-                let a = rng.node(1.2);
-                let b = rng.node(1.2);
-                let br = Branches::default();
-                let g = match geometry(ct, &a, &b, &br) {
-                    Ok(g) => g,
-                    Err(_) => continue,
-                };
-                let h = 1e-6;
-                for dof in 0..12 {
-                    let mut e = Vec3::zeros();
-                    e[dof % 3] = h;
-                    let (ap, am, bp, bm) = match dof / 3 {
-                        0 => (
-                            moved(&a, e, Vec3::zeros()),
-                            moved(&a, -e, Vec3::zeros()),
-                            b,
-                            b,
-                        ),
-                        1 => (
-                            moved(&a, Vec3::zeros(), e),
-                            moved(&a, Vec3::zeros(), -e),
-                            b,
-                            b,
-                        ),
-                        2 => (
-                            a,
-                            a,
-                            moved(&b, e, Vec3::zeros()),
-                            moved(&b, -e, Vec3::zeros()),
-                        ),
-                        _ => (
-                            a,
-                            a,
-                            moved(&b, Vec3::zeros(), e),
-                            moved(&b, Vec3::zeros(), -e),
-                        ),
-                    };
-                    let gp = geometry(ct, &ap, &bp, &g.branches).expect("near a regular point");
-                    let gm = geometry(ct, &am, &bm, &g.branches).expect("near a regular point");
-                    for k in 0..6 {
-                        let fd = (gp.pos[k] - gm.pos[k]) / (2.0 * h);
-                        let gr = g.gradient(ct, k, &(b.r - a.r));
-                        let an = [gr.xa, gr.ta, gr.xb, gr.tb][dof / 3][dof % 3];
-                        assert!(
-                            (fd - an).abs() < 1e-7 * (1.0 + an.abs()),
-                            "{ct:?} comp {} dof {dof}: fd {fd} analytic {an}",
-                            k + 1
-                        );
-                    }
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn rigid_motion_leaves_positions_unchanged() {
-        let mut rng = Lcg(5);
-        for ct in ALL {
-            for _ in 0..20 {
-                let a = rng.node(1.0);
-                let b = rng.node(1.0);
-                let Ok(g0) = geometry(ct, &a, &b, &Branches::default()) else {
-                    continue;
-                };
-                let rig = Quat::from_scaled_axis(rng.vec(2.0));
-                let shift = rng.vec(3.0);
-                let tr = |n: &Node| Node {
-                    r: rig * n.r + shift,
-                    q: rig * n.q,
-                    ..*n
-                };
-                let g1 = geometry(ct, &tr(&a), &tr(&b), &g0.branches).expect("regular");
-                for k in 0..6 {
-                    assert!(
-                        (g1.pos[k] - g0.pos[k]).abs() < 1e-12,
-                        "{ct:?} comp {}",
-                        k + 1
-                    );
-                }
-            }
-        }
-    }
-}
+mod tests;

@@ -46,29 +46,3 @@ pub(super) fn radial_thrust_into<T: Scalar>(
         },
     ]);
 }
-
-#[cfg(test)]
-mod tests {
-    use super::super::tests::ALL;
-    use super::super::{geometry, Node};
-    use super::*;
-
-    #[test]
-    fn radial_direction_kept_on_axis() {
-        let ct = ALL[4];
-        let a = Node::default();
-        let b = Node {
-            r: Vec3::new(0.0, 0.5, 1.0),
-            ..a
-        };
-        let g = geometry(ct, &a, &b, &Branches::default()).expect("regular");
-        assert!((g.branches.e_r_local - Vec3::y()).norm() < 1e-15);
-        let on_axis = Node {
-            r: Vec3::new(0.0, 0.0, 1.0),
-            ..a
-        };
-        let g2 = geometry(ct, &a, &on_axis, &g.branches).expect("regular");
-        assert_eq!(g2.pos[0], 0.0);
-        assert!((g2.gradient(ct, 0, &Vec3::zeros()).xb - Vec3::y()).norm() < 1e-15);
-    }
-}
