@@ -4,7 +4,7 @@
 //!
 //! The functions carry no `#[no_mangle]` so that this file can be compiled twice: into the
 //! cdylib (src/lib.rs exports them under their fmi2 names) and into the native benchmark
-//! (benches/native.rs includes it with `#[path]` and calls the bodies through function pointers,
+//! (benches/native/main.rs includes it with `#[path]` and calls the bodies through function pointers,
 //! next to the real FMU's exported functions, without a symbol clash).
 #![allow(non_snake_case, dead_code, clippy::not_unsafe_ptr_arg_deref)]
 

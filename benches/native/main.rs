@@ -48,14 +48,14 @@ use std::hint::black_box;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
-#[path = "../empty_fmu/src/imp.rs"]
+#[path = "../../empty_fmu/src/imp.rs"]
 mod empty;
 
 // The same physics written directly: the floor a round is compared with.
 mod floor;
 
 // The logger, callback struct and value lookups shared with the tests and the fuzz harness.
-#[path = "../tests/common/mod.rs"]
+#[path = "../../tests/common/mod.rs"]
 mod support;
 
 // ---------------------------------------------------------------- counting allocator
@@ -281,7 +281,7 @@ struct PlanarSlide {
 fn shared() -> &'static Shared {
     static SHARED: std::sync::OnceLock<Shared> = std::sync::OnceLock::new();
     SHARED.get_or_init(|| {
-        serde_json::from_str(include_str!("../tests/data/parameter_sets.json"))
+        serde_json::from_str(include_str!("../../tests/data/parameter_sets.json"))
             .expect("tests/data/parameter_sets.json")
     })
 }
@@ -1017,7 +1017,7 @@ fn table_text(rows: &[Row], s: &Settings) -> String {
     if !direct.is_empty() {
         let _ = writeln!(
             t,
-            "\nfloor: the same physics written directly (benches/floor.rs), rounds interleaved with the FMU's and the empty FMU's\n\
+            "\nfloor: the same physics written directly (benches/native/floor.rs), rounds interleaved with the FMU's and the empty FMU's\n\
              {:<25} {:>13} {:>9} {:>12} {:>11} {:>15} {:>15}  target",
             "variant", "beh", "ns_round", "floor_direct", "floor_round", "round/direct", "direct/empty"
         );
