@@ -7,12 +7,13 @@ use crate::fmus::Api;
 use crate::instances::Inst;
 use crate::scenes::{H, PERIOD};
 use crate::support;
+use std::fmt::Debug;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
 #[cold]
 #[inline(never)]
-fn step_failed<R: std::fmt::Debug>(env: usize, step: usize, s: [R; 3]) -> ! {
+fn step_failed<R: Debug>(env: usize, step: usize, s: [R; 3]) -> ! {
     panic!(
         "round at step {step} failed: set/doStep/get returned {s:?}: {:?}",
         support::log_of(env)
@@ -21,11 +22,7 @@ fn step_failed<R: std::fmt::Debug>(env: usize, step: usize, s: [R; 3]) -> ! {
 
 /// `n` rounds set + doStep + get; the wall time of the whole loop.
 #[inline(never)]
-pub fn rounds<R: Copy + PartialEq + std::fmt::Debug>(
-    api: &Api<R>,
-    f: &mut Inst,
-    n: usize,
-) -> Duration {
+pub fn rounds<R: Copy + PartialEq + Debug>(api: &Api<R>, f: &mut Inst, n: usize) -> Duration {
     let (set, step, get) = (
         black_box(api.set_real),
         black_box(api.do_step),
@@ -51,11 +48,7 @@ pub fn rounds<R: Copy + PartialEq + std::fmt::Debug>(
 
 /// `n` rounds as above, timing only fmi2DoStep (each call bracketed by Instant::now).
 #[inline(never)]
-pub fn do_steps<R: Copy + PartialEq + std::fmt::Debug>(
-    api: &Api<R>,
-    f: &mut Inst,
-    n: usize,
-) -> Duration {
+pub fn do_steps<R: Copy + PartialEq + Debug>(api: &Api<R>, f: &mut Inst, n: usize) -> Duration {
     let (set, step, get) = (
         black_box(api.set_real),
         black_box(api.do_step),
