@@ -4,8 +4,8 @@
 //!
 //! The functions carry no `#[no_mangle]` so that this file can be compiled twice: into the
 //! cdylib (src/lib.rs exports them under their fmi2 names) and into the native benchmark
-//! (benches/native.rs includes it with `#[path]` and calls the bodies through function pointers,
-//! next to the real FMU's exported functions, without a symbol clash).
+//! (benches/native/main.rs includes it with `#[path]`, fmus.rs calls the bodies through function
+//! pointers, next to the real FMU's exported functions, without a symbol clash).
 #![allow(non_snake_case, dead_code, clippy::not_unsafe_ptr_arg_deref)]
 
 use std::ffi::{c_char, c_double, c_int, c_uint, c_void};

@@ -1,7 +1,7 @@
 //! Empty FMI 2.0 Co-Simulation FMU (modelIdentifier `Empty`): the floor of an FMI round trip.
 //!
 //! All 34 FMI 2.0 CS functions are exported under their C names; the bodies are in `imp.rs`
-//! (shared with benches/native.rs of the main crate). Set/Get store and return values in small
+//! (shared with benches/native/ of the main crate). Set/Get store and return values in small
 //! arrays, fmi2DoStep only advances the clock, the state functions return fmi2Error.
 #![allow(non_snake_case)]
 

@@ -1,7 +1,7 @@
 //! The one test support module for everything that calls the exported FMI functions directly,
 //! as an importer would through the shared library: the integration tests (`mod common;`), the
 //! fuzz harness (`fuzz/harness/`, also replayed by `tests/fuzz_smoke.rs`) and the native
-//! benchmark (`benches/native.rs`), the latter two through `#[path = ".../tests/common/mod.rs"]`.
+//! benchmark (`benches/native/`), the latter two through `#[path = ".../tests/common/mod.rs"]`.
 //!
 //! - the logger and the callback struct: messages recorded per componentEnvironment key
 //!   (`new_env`, `callbacks`, `log_of`, `log_len`, `log_since`, `forget_log`);

@@ -11,7 +11,7 @@ Plain helpers (importable with ``from conftest import ...``) and fixtures of the
   Connector(variant, slave)
                            driver.Connector: name-based set/get, enter/start/step/drive with a
                            master clock, record() of everything observable
-  parameter_sets()         tests/data/parameter_sets.json (shared with benches/native.rs)
+  parameter_sets()         tests/data/parameter_sets.json (shared with benches/native/)
 Fixtures only:
   repo                     REPO
   variant                  parametrised over VARIANTS
@@ -61,7 +61,7 @@ def vr(md) -> dict:
 @functools.lru_cache(maxsize=None)
 def parameter_sets() -> dict:
     """tests/data/parameter_sets.json: the parameter sets and paths shared with the Rust
-    benchmark (benches/native.rs)."""
+    benchmark (benches/native/)."""
     return json.loads((REPO / "tests" / "data" / "parameter_sets.json").read_text())
 
 

@@ -168,7 +168,7 @@ class Smooth:
 
 def spring_damper_params(variant, damping=True):
     """Deterministic springs (trans 800-1500 N/m, rot 40-60 N.m/rad) and dampers (`spring_damper`
-    of tests/data/parameter_sets.json, shared with benches/native.rs)."""
+    of tests/data/parameter_sets.json, shared with benches/native/)."""
     sd = parameter_sets()["spring_damper"]
     kt, kr = sd["k_translational"], sd["k_rotational"]
     ct, cr = sd["c_translational"], sd["c_rotational"]
@@ -209,7 +209,7 @@ class PlanarSlide:
         return _ref.pose_to_inputs("Planar", self.pose(t))
 
 
-# `planar_friction` of tests/data/parameter_sets.json (shared with benches/native.rs): friction
+# `planar_friction` of tests/data/parameter_sets.json (shared with benches/native/): friction
 # F_NC = |f1| + Fint = 100 N (f1 ~ 0 on this path), limit mu F_NC = 40 N (30 N kinetic), stick
 # range 40 N / 1e4 N/m = 4 mm << amplitude 20 mm: every reversal sticks for ~0.15 s, the rest
 # slips. Spin: M_NR1 ~ Mint = 2 N.m, range 0.8 N.m / 100 N.m/rad = 8 mrad << 50 mrad. Here also a

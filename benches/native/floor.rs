@@ -20,6 +20,8 @@
 //! map is the same physics in every implementation; the floor includes its cost as it is).
 //! Initialization is not timed and uses the crate's `initial_state` (initial positions, angle
 //! branches, friction state at t = 0).
+//!
+//! Uses the crate's physics only, nothing else of the benchmark (`direct.rs` runs and checks it).
 
 use connector_fmu::physics::connector::{Params, Penalty};
 use connector_fmu::physics::friction::{self, Eval, FrictionParams, FrictionState};
