@@ -17,7 +17,7 @@ use serde::Serialize;
 pub const TIME_VR: u32 = 0;
 
 /// Capability flags of the FMI 3.0 Co-Simulation element, declared only for what works and is
-/// tested (tests/abi_fmi3.rs, tests/python/test_fmpy_fmi3.py).
+/// tested (tests/abi_fmi3_*.rs, tests/python/test_fmpy_fmi3.py).
 pub mod capabilities {
     /// fmi3DoStep with any communicationStepSize > 0.
     pub const CAN_HANDLE_VARIABLE_COMMUNICATION_STEP_SIZE: bool = true;

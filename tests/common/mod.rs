@@ -7,8 +7,12 @@
 //!   (`new_env`, `callbacks`, `log_of`, `log_len`, `log_since`, `forget_log`);
 //! - value references by name from the variable table (`vr`, `Fmu::vr`);
 //! - `instantiate_raw` and `Fmu`, an instance freed on drop, with checked calls;
-//! - `fnv1a`, the checksum of serialized FMU states.
+//! - `fnv1a`, the checksum of serialized FMU states;
+//! - `fmi3`: the same for the FMI 3.0 exports (its logger, `Fmu3`, `expect_error!`) and the
+//!   FMI 2.0 twin of an FMI 3.0 instance, for the `abi_fmi3_*` tests.
 #![allow(dead_code)]
+
+pub mod fmi3;
 
 use connector_fmu::fmi2::exports::*;
 use connector_fmu::fmi2::types::*;

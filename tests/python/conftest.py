@@ -23,6 +23,8 @@ Fixtures only:
                            (pytest shows them for failing tests). ``logging_on`` defaults to
                            ``log is not None``. ``guid`` overrides the GUID (to test refusal;
                            instantiate then raises and the log holds the reason).
+  conn(variant, log=None)  a Connector over a make_slave instance named <variant>-<n> (the fmpy
+                           co-simulation tests; test_fmpy_bad_input.py has a `conn` of its own)
 """
 import functools
 import json
@@ -111,3 +113,14 @@ def make_slave(extracted):
     yield make
     for s in reversed(slaves):
         s.freeInstance()
+
+
+@pytest.fixture
+def conn(make_slave):
+    count = [0]
+
+    def make(variant, log=None):
+        count[0] += 1
+        return Connector(variant, make_slave(variant, instance_name=f"{variant}-{count[0]}", log=log))
+
+    return make

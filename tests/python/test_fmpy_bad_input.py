@@ -524,7 +524,7 @@ def test_singular_configuration_step_refused_and_recoverable(conn, variant, labe
     # parameters, inputs and time exactly as saved; Real outputs to round-off (1e-12 of the
     # largest). Whether ALL outputs (Real and Integer) right after a restore equal bit for bit
     # those at the save point is tested, strictly, in
-    # test_fmpy_cosim.py::test_restored_state_reports_the_saved_values; here the point is that
+    # test_fmpy_rollback.py::test_restored_state_reports_the_saved_values; here the point is that
     # the last good state is kept and recovers.
     assert c.values() == saved_record[2]
     assert c.s.getRealStatus(fmi2LastSuccessfulTime) == t_good
