@@ -66,11 +66,10 @@ def figure(stab: data.Stability, labels=None, styles=None, bound=None, rho=None,
             ax.plot([r["zeta"] for r in pts], [shown(r["measured"]) for r in pts], ls="none",
                     marker=look.marker, ms=6.5, color=look.color, transform=ax.transData + shift, zorder=3)
         z = np.array([r["zeta"] for r in rs])
-        if bound is not None:
-            zf = np.concatenate(([0.0], np.geomspace(1e-3, zmax, 300)))
+        zf, cf = z, np.array([r["closed_form"] for r in rs])
+        if bound is not None and not np.all(cf[np.isfinite(cf)] >= ceil):   # smooth where it shows
+            zf = np.unique(np.concatenate(([0.0], z, np.geomspace(1e-3, zmax, 40))))
             cf = np.array([bound(method, zz) for zz in zf])
-        else:
-            zf, cf = z, np.array([r["closed_form"] for r in rs])
         ok = np.isfinite(cf)
         if ok.any() and not np.all(cf[ok] >= ceil):
             ax.plot(zf[ok], np.clip(np.where(cf[ok] <= 0, floor, cf[ok]), floor, ceil), color=look.color,
@@ -114,7 +113,7 @@ def figure(stab: data.Stability, labels=None, styles=None, bound=None, rho=None,
             bx.plot(x[~fin], np.full((~fin).sum(), 45.0), ls="none", marker="x", ms=6, mew=1.5,
                     color=look.color, zorder=3)
         if rho is not None:
-            hh = np.geomspace(x.min(), x.max(), 400)
+            hh = np.geomspace(x.min(), x.max(), 160)
             cr = np.array([rho(method, h) for h in hh])
         else:
             hh, cr = x, np.array([r["closed_form"] for r in rs])
