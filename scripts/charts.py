@@ -2,8 +2,8 @@
 """All the co-simulation charts in one pass of the sweep engine: the work-precision charts of
 every scene (scripts/work_precision.py) and the §7 stability map (scripts/stability_map.py), their
 tasks run together so that the workers stay busy until the last one. Then, from the CSVs
-(scripts/figures): the figures into out/ and docs/img/ (with docs/img/commit.txt), and the
-interactive out/report.html.
+(scripts/figures): the figures into out/ and docs/img/ (with docs/img/commit.txt; not with
+--quick), and the interactive out/report.html.
 
     .venv/bin/python scripts/charts.py [--out out] [--quick] [--serial | --scheduler ADDR] [--workers N]
 
@@ -58,9 +58,11 @@ def main(argv=None):
     stability_map.finish(sm, results[i:], out, draw=False)
     work_precision.convergence_orders(out)
     print(f"  wrote {out / 'wp_orders.csv'} (convergence orders, H = 0.1-2 ms)")
-    for path, size in publish(out, docs=work_precision.REPO / "docs" / "img", repo=work_precision.REPO,
-                              **descriptions()).items():
+    docs = None if args.quick else work_precision.REPO / "docs" / "img"    # a smoke run is no figure
+    for path, size in publish(out, docs=docs, repo=work_precision.REPO, **descriptions()).items():
         print(f"  wrote {path} ({size / 1000:.0f} kB)")
+    if docs is None:
+        print("  (--quick: docs/img/ left as it is)")
 
 
 if __name__ == "__main__":
