@@ -134,13 +134,13 @@ def visit(path, ready="document.body.dataset.chartsDrawn", value=None, screensho
             got = cdp.send("Runtime.evaluate", {"expression": value or ready, "returnByValue": True}, session=s)
             seen.value = got.get("result", {}).get("value")
             if screenshot:
-                size = cdp.send("Page.getLayoutMetrics", session=s)["cssContentSize"]
-                height = int(min(size["height"], 16000))
-                cdp.send("Emulation.setDeviceMetricsOverride", {"width": width, "height": height,
-                                                                "deviceScaleFactor": 1, "mobile": False}, session=s)
-                time.sleep(0.5)
-                shot = cdp.send("Page.captureScreenshot", {"format": "png", "captureBeyondViewport": True},
-                                session=s, timeout=60)
+                got = cdp.send("Runtime.evaluate", {"expression": "document.documentElement.scrollHeight",
+                                                    "returnByValue": True}, session=s)
+                height = int(min(got.get("result", {}).get("value") or 900, 16000))
+                shot = cdp.send("Page.captureScreenshot", {
+                    "format": "png", "captureBeyondViewport": True,
+                    "clip": {"x": 0, "y": 0, "width": width, "height": height, "scale": 1}},
+                    session=s, timeout=60)
                 Path(screenshot).write_bytes(base64.b64decode(shot["data"]))
                 seen.screenshot = Path(screenshot)
             time.sleep(0.3)                      # let late console messages and requests arrive

@@ -137,6 +137,14 @@ def stability_figure(stab: data.Stability, styles: Styles, labels=None):
                                  customdata=[f"ωH = {r['omegaH']:.3g}: ρ = {r['measured']:.6g} (closed form "
                                              f"{r['closed_form']:.6g})" for r in fin],
                                  hovertemplate=hov), row=1, col=2)
+        inf = [r for r in rh if not math.isfinite(r["measured"])]
+        if inf:
+            fig.add_trace(go.Scatter(x=[r["omegaH"] for r in inf], y=[40.0] * len(inf), mode="markers",
+                                     legendgroup=method, showlegend=False,
+                                     marker=dict(symbol="x-thin-open", size=9, color=look.color,
+                                                 line=dict(width=2, color=look.color)),
+                                     customdata=[f"ωH = {r['omegaH']:.3g}: did not converge" for r in inf],
+                                     hovertemplate=hov), row=1, col=2)
         fig.add_trace(go.Scatter(x=[r["omegaH"] for r in rh], y=[r["closed_form"] if math.isfinite(r["closed_form"])
                                                                 else None for r in rh],
                                  mode="lines", legendgroup=method, showlegend=False, hoverinfo="skip",
@@ -144,7 +152,8 @@ def stability_figure(stab: data.Stability, styles: Styles, labels=None):
     fig.update_xaxes(title_text="damping ratio ζ", row=1, col=1)
     fig.update_yaxes(type="log", title_text="largest stable ωH (1e-4: never stable)", row=1, col=1)
     fig.update_xaxes(type="log", title_text="ωH", row=1, col=2)
-    fig.update_yaxes(type="log", range=[-1.3, 1.8], title_text="spectral radius", row=1, col=2)
+    fig.update_yaxes(type="log", range=[-1.3, 1.8], title_text="spectral radius (× at 40: did not converge)",
+                     row=1, col=2)
     fig.update_layout(height=470, margin=dict(l=60, r=20, t=40, b=50), template="plotly_white",
                       legend=dict(font=dict(size=11)))
     fig.update_annotations(font_size=12)
