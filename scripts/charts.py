@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """All the co-simulation charts in one pass of the sweep engine: the work-precision charts of
 every scene (scripts/work_precision.py) and the §7 stability map (scripts/stability_map.py), their
-tasks run together so that the workers stay busy until the last one.
+tasks run together so that the workers stay busy until the last one. Then, from the CSVs
+(scripts/figures): the figures into out/ and docs/img/ (with docs/img/commit.txt; not with
+--quick), and the interactive out/report.html.
 
     .venv/bin/python scripts/charts.py [--out out] [--quick] [--serial | --scheduler ADDR] [--workers N]
 
@@ -20,6 +22,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import stability_map  # noqa: E402
 import work_precision  # noqa: E402
 from cosim import sweep as engine  # noqa: E402
+from figures import publish  # noqa: E402
+from figures.from_cosim import descriptions  # noqa: E402
 from cosim.scenes import SCENES  # noqa: E402
 
 
@@ -51,9 +55,14 @@ def main(argv=None):
     for name, ts in wp.items():
         work_precision.finish(name, ts, results[i:i + len(ts)], out)
         i += len(ts)
-    stability_map.finish(sm, results[i:], out)
+    stability_map.finish(sm, results[i:], out, draw=False)
     work_precision.convergence_orders(out)
     print(f"  wrote {out / 'wp_orders.csv'} (convergence orders, H = 0.1-2 ms)")
+    docs = None if args.quick else work_precision.REPO / "docs" / "img"    # a smoke run is no figure
+    for path, size in publish(out, docs=docs, repo=work_precision.REPO, **descriptions()).items():
+        print(f"  wrote {path} ({size / 1000:.0f} kB)")
+    if docs is None:
+        print("  (--quick: docs/img/ left as it is)")
 
 
 if __name__ == "__main__":

@@ -90,6 +90,13 @@ def path_angles(t):
 
 
 def plot(res, path):
+    """Write the figure (`figure`) to path."""
+    fig = figure(res)
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def figure(res):
     """Four rows, one quantity kind per panel: translational left, rotational right."""
     t = res["time"]
     spin, tilt = path_angles(t)
@@ -129,16 +136,20 @@ def plot(res, path):
         ax.set_xlabel("time [s]")
     fig.suptitle(TITLE, fontsize="medium")
     fig.supxlabel(note(res), x=0.01, ha="left", fontsize="small")
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
+    return fig
+
+
+def simulate():
+    """The default scene through fmpy: the result table with OUTPUTS at every DT."""
+    t = np.linspace(0.0, STOP, int(round(STOP / DT)) + 1)
+    return simulate_fmu(str(FMU), fmi_type="CoSimulation", stop_time=STOP, output_interval=DT,
+                        start_values=PARAMETERS, input=input_table(t), output=OUTPUTS)
 
 
 def main():
     if not FMU.is_file():
         raise SystemExit(f"error: {FMU.relative_to(REPO)} is missing; run ./scripts/run")
-    t = np.linspace(0.0, STOP, int(round(STOP / DT)) + 1)
-    res = simulate_fmu(str(FMU), fmi_type="CoSimulation", stop_time=STOP, output_interval=DT,
-                       start_values=PARAMETERS, input=input_table(t), output=OUTPUTS)
+    res = simulate()
     OUT.mkdir(exist_ok=True)
     csv, png = OUT / "default_scene.csv", OUT / "default_scene.png"
     names = ["time"] + OUTPUTS

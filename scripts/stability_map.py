@@ -14,7 +14,8 @@ One task per (method, ζ) through the sweep engine (scripts/cosim/sweep.py, docs
 default on a local Dask cluster, --serial in this process.
 
 Writes out/stability_map.csv (largest stable ωH per method and ζ, measured and closed form;
-and the spectral radius against ωH at ζ = 0) and out/stability_map.png.
+and the spectral radius against ωH at ζ = 0) and out/stability_map.png (drawn from the CSV by
+scripts/figures).
 """
 from __future__ import annotations
 
@@ -26,13 +27,10 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-import matplotlib  # noqa: E402
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from cosim import sweep as engine  # noqa: E402
-from cosim.master import LABELS, METHODS  # noqa: E402
+from cosim.master import METHODS  # noqa: E402
 
 # the event-located methods whose one-step map does not depend on the FMU's extrapolation history
 # (they integrate the body from trial evaluations and directional derivatives only)
@@ -44,9 +42,6 @@ ZETAS = [0.0, 0.01, 0.02, 0.05, 0.1, 0.2, 0.3, 0.5, 0.7, 1.0, 1.5, 2.0]
 H_LO, H_HI = 1e-3, 1e3
 TOL = 1e-9
 RHO_H = np.geomspace(1e-2, 1e2, 25)
-STYLE = {"zoh": ("C3", "o"), "extrapolation": ("C1", "s"), "linear_implicit": ("C0", "D"),
-         "rollback": ("C2", "^"), "linear_implicit_ev": ("C4", "P"), "linear_exact_ev": ("C6", "*"),
-         "linear_path_ev": ("C9", "X")}
 
 
 def tasks():
@@ -85,10 +80,6 @@ def limits_and_rhos(tasks_, results):
     return limits, rhos
 
 
-def label(method):
-    return LABELS[method] + (", θ = 1" if method.startswith("linear_implicit") else "")
-
-
 def closed_rho(method, h):
     """Closed-form spectral radius at ζ = 0 (for ZOH it is sqrt(1 + (ωH)²/2) up to ωH = 4, where
     the eigenvalues turn real and it grows faster)."""
@@ -109,72 +100,15 @@ def write_csv(limits, rhos, path):
                         f"{r['rho_closed_form']:.12g}", ""])
 
 
-def plot(limits, rhos, path):
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(14, 5.8))
-    zf = np.concatenate(([0.0], np.geomspace(1e-3, 2.0, 300)))
-    floor, ceil = H_LO / 3, H_HI * 3
-    for method in MAP_METHODS:
-        color, marker = STYLE[method]
-        rs = [r for r in limits if r["method"] == method]
-        z = np.array([r["zeta"] for r in rs])
-        m = np.array([r["largest_stable_omegaH"] for r in rs])
-        shown = np.clip(np.where(m <= 0, floor, m), floor, ceil)
-        ax.plot(z, shown, color=color, marker=marker, ls="none", ms=7, label=f"{label(method)} (measured)")
-        if method in ("zoh", "rollback", "extrapolation"):
-            cf = np.array([bound_closed_form(method, zz) for zz in zf]) if method != "extrapolation" \
-                else np.array([r["closed_form"] for r in rs])
-            zz = zf if method != "extrapolation" else z
-            ax.plot(zz, np.clip(np.where(cf <= 0, floor, cf), floor, ceil), color=color, lw=1.2,
-                    ls="--" if method == "extrapolation" else "-")
-    ax.annotate("ZOH: unstable at every H for ζ = 0", (0.0, floor), xytext=(0.12, floor * 3),
-                fontsize=8, color="C3", arrowprops=dict(arrowstyle="->", color="C3"))
-    ax.axhline(H_HI, color="C0", lw=0.8, ls=":")
-    ax.text(1.0, H_HI * 0.5, f"linear-implicit: stable up to ωH = {H_HI:g} (top of the search)",
-            fontsize=8, color="C0", ha="center")
-    ax.set_yscale("log")
-    ax.set_ylim(floor / 1.5, ceil * 2)
-    ax.set_xlabel("damping ratio ζ")
-    ax.set_ylabel("largest stable ωH")
-    ax.set_title("Largest stable ωH per method (markers: measured through the FMU;\n"
-                 "lines: ZOH min(4ζ, 1/ζ), rollback 3(√(ζ²+2/3) − ζ), dashed: extrapolation closed form)",
-                 fontsize=9)
-    ax.grid(True, which="both", alpha=0.25)
-    ax.legend(fontsize=8, loc="lower right")
-
-    hh = np.geomspace(RHO_H[0], RHO_H[-1], 400)
-    for method in MAP_METHODS:
-        color, marker = STYLE[method]
-        rs = [r for r in rhos if r["method"] == method]
-        x = np.array([r["omegaH"] for r in rs])
-        y = np.array([r["rho"] for r in rs])
-        fin = np.isfinite(y)
-        bx.plot(x[fin], y[fin], color=color, marker=marker, ls="none", ms=6, label=label(method))
-        if (~fin).any():
-            bx.plot(x[~fin], np.full((~fin).sum(), 40.0), color=color, marker="x", ls="none", ms=7)
-        cr = np.array([closed_rho(method, h) for h in hh])
-        bx.plot(hh, np.where(np.isfinite(cr), cr, np.nan), color=color, lw=1)
-    bx.axhline(1.0, color="k", lw=0.8)
-    bx.set_xscale("log")
-    bx.set_yscale("log")
-    bx.set_ylim(0.05, 60)
-    bx.set_xlabel("ωH")
-    bx.set_ylabel("spectral radius of the one-step map")
-    bx.set_title("ζ = 0: spectral radius (markers: measured; lines: closed form; ZOH = √(1+(ωH)²/2)\n"
-                 "up to ωH = 4, real eigenvalues beyond; × at the top: rollback did not converge)", fontsize=9)
-    bx.grid(True, which="both", alpha=0.25)
-    bx.legend(fontsize=8, loc="upper left")
-    fig.suptitle("§7 co-simulation stability: mass on the connector's spring-damper (RadialThrust, axial)",
-                 fontsize=11)
-    fig.tight_layout(rect=(0, 0, 1, 0.95))
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-
-
-def finish(tasks_, results, out):
+def finish(tasks_, results, out, draw=True):
     limits, rhos = limits_and_rhos(tasks_, results)
     write_csv(limits, rhos, out / "stability_map.csv")
-    plot(limits, rhos, out / "stability_map.png")
-    print(f"  wrote {out / 'stability_map.csv'} and .png")
+    print(f"  wrote {out / 'stability_map.csv'}")
+    if draw:                      # out/stability_map.png from the CSV (scripts/figures)
+        from figures import publish
+        from figures.from_cosim import descriptions
+        for path in publish(out, scenes=["stability"], report_page=False, **descriptions()):
+            print(f"  wrote {path}")
 
 
 def main(argv=None):

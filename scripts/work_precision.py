@@ -2,8 +2,8 @@
 """Work-precision charts: for each scene of scripts/cosim/scenes.py and each coupling method of
 scripts/cosim/master.py, sweep the macro step H, measure the error against the scene's reference
 and the CPU time of the stepping loop (time.process_time; FMU set-up and monitoring excluded),
-and write out/wp_<scene>.csv (every run) and out/wp_<scene>.png (error against CPU time, one
-curve per method, points labelled by H).
+and write out/wp_<scene>.csv (every run) and out/wp_<scene>.png (drawn from the CSV by
+scripts/figures: work-precision beside convergence).
 
     .venv/bin/python scripts/work_precision.py [--out out] [--quick] [--serial | --scheduler ADDR]
                                                 [--workers N] [scene ...]
@@ -24,20 +24,13 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-import matplotlib  # noqa: E402
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from cosim import sweep as engine  # noqa: E402
 from cosim.master import EV_METHODS, FMI3_SUFFIX, METHODS, split_method  # noqa: E402
-from cosim.master import label as method_label  # noqa: E402
 from cosim.scenes import SCENES  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
-STYLE = {"zoh": ("C3", "o"), "extrapolation": ("C1", "s"), "linear_implicit": ("C0", "D"),
-         "rollback": ("C2", "^"), "extrapolation_ev": ("C5", "v"), "linear_implicit_ev": ("C4", "P"),
-         "linear_exact_ev": ("C6", "*"), "linear_path_ev": ("C9", "X")}
 # scenes with events (stops, stick/slip): the event-located methods run there, at EV_SWEEP's steps
 # (the scene's sweep from 10 ms to 0.1 ms), and through FMI 3.0 (early return) at FMI3_SWEEP
 EVENT_SCENES = ("belt", "puck0", "bounce")
@@ -58,11 +51,6 @@ def methods_of(scene, quick=False):
     return out
 FIXED = ["scene", "method", "H", "steps", "cpu_s", "us_per_step", "fmi_calls", "calls_per_step",
          "rollback_passes", "events", "failed", "error", "error2"]
-
-
-def fmt_h(H):
-    m, e = f"{H:.0e}".split("e")
-    return f"{m}e{int(e)}"
 
 
 def tasks(scene, quick=False):
@@ -127,47 +115,6 @@ def write_csv(rows, path):
                         for k, v in ((k, r.get(k, "")) for k in keys)})
 
 
-def plot(scene, rows, path):
-    panels = [("error", scene.error_label)]
-    if scene.error2_label and any(np.isfinite(r["error2"]) for r in rows):
-        panels.append(("error2", scene.error2_label))
-    fig, axes = plt.subplots(1, len(panels), figsize=(7.5 * len(panels), 6.0), squeeze=False)
-    notes = []
-    for ax, (key, label) in zip(axes[0], panels):
-        for method in dict.fromkeys(r["method"] for r in rows):
-            base, version = split_method(method)
-            rs = [r for r in rows if r["method"] == method]
-            ok = [r for r in rs if not r["failed"] and np.isfinite(r[key]) and r[key] > 0]
-            color, marker = STYLE[base]
-            if ok:
-                x = [r["cpu_s"] for r in ok]
-                y = [r[key] for r in ok]
-                name = method_label(method) + (f", θ = {scene.theta:g}" if base.startswith("linear_implicit") else "")
-                ax.loglog(x, y, color=color, marker=marker, ms=5 if version == 2 else 9,
-                          lw=1.5 if version == 2 else 0, mfc=None if version == 2 else "none",
-                          ls="-" if base in METHODS else "--", label=name)
-                for r, xi, yi in zip(ok, x, y):
-                    ax.annotate(fmt_h(r["H"]), (xi, yi), textcoords="offset points", xytext=(4, 3),
-                                fontsize=6.5, color=color)
-            else:
-                ax.plot([], [], color=color, marker=marker, label=method_label(method) + " (no result)")
-            bad = [r for r in rs if r["failed"] or not np.isfinite(r[key])]
-            if bad and key == "error":
-                notes.append(f"{method}: no result at H = " + ", ".join(fmt_h(r["H"]) for r in bad))
-        ax.set_xlabel("CPU time of the run [s]")
-        ax.set_ylabel("relative error")
-        ax.set_title(label, fontsize=9)
-        ax.grid(True, which="both", alpha=0.25)
-        ax.legend(fontsize=7, loc="best")
-    fig.suptitle(f"Work-precision, {scene.title}\nt_end = {scene.t_end:g} s; "
-                 f"points labelled by the macro step H [s]", fontsize=11)
-    if notes:
-        fig.text(0.01, 0.01, "\n".join(notes), fontsize=7, va="bottom", color="0.3")
-    fig.tight_layout(rect=(0, 0.02 + 0.022 * len(notes), 1, 0.93))
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-
-
 ORDER_RANGE = (1e-4, 2e-3)       # the H range of the convergence orders (s)
 
 
@@ -217,8 +164,15 @@ def finish(name, tasks_, results, out):
     scene = SCENES[name]
     rows = chart_rows(scene, tasks_, results)
     write_csv(rows, out / f"wp_{name}.csv")
-    plot(scene, rows, out / f"wp_{name}.png")
-    print(f"  wrote {out / f'wp_{name}.csv'} and .png")
+    print(f"  wrote {out / f'wp_{name}.csv'}")
+
+
+def draw(names, out):
+    """out/wp_<scene>.png of the scenes `names`, from their CSVs and the orders (scripts/figures)."""
+    from figures import publish
+    from figures.from_cosim import descriptions
+    for path in publish(out, scenes=list(names), report_page=False, **descriptions()):
+        print(f"  wrote {path}")
 
 
 def main(argv=None):
@@ -247,6 +201,7 @@ def main(argv=None):
         i += len(ts)
     convergence_orders(out)
     print(f"  wrote {out / 'wp_orders.csv'}")
+    draw(args.scenes, out)
 
 
 if __name__ == "__main__":
