@@ -6,7 +6,7 @@
 //! |---|---|---|
 //! | `STOP_UPPER + k`, `STOP_LOWER + k` | stop of component k+1 engages (> 0) or lets go (≤ 0) | penetration c − upper, lower − c |
 //! | `STICK_SLIP + e` | effect e (sliding, spin) breaks away | trial force minus its limit (≥ 0: slips) |
-//! | `SLIP_STICK + e` | effect e stops slipping | slip rate along the friction force, v·f (≤ 0: the slip reverses) |
+//! | `SLIP_STICK + e` | effect e stops slipping | with a stick damper, the trial force minus its limit (≤ 0: the plastic slip stops); without, the slip rate along the friction force, v·f (≤ 0: the slip reverses) |
 //! | `STOP_FORCE + k` | an engaged damped stop's force lets go (clipped: it never pulls) | k·p + c·ṗ |
 //! | `NORMAL_AXIAL`, `NORMAL_SLIDE`, `NORMAL_SPIN` | the normal force of friction vanishes | CRF1; F_C + F_C^int; M_R1 + M_R1^int |
 //!
@@ -19,7 +19,9 @@
 //! does not find the same event again.
 
 use super::connector::{Outputs, Params, State};
-use super::friction::{normal_loads, stick_slip_function, FrictionParams, FrictionState, Status};
+use super::friction::{
+    normal_loads, slip_stick_function, stick_slip_function, FrictionParams, FrictionState, Status,
+};
 use super::kinematics::{with_constant_type, ConnectionType, Role, Rotational};
 use super::math::Real;
 
@@ -195,7 +197,8 @@ fn values_on_body(ct: ConnectionType, p: &Params, st: &State, o: &Outputs, v: &m
             }
         }
     }
-    for (e, x) in slip_power(coupled, fs, rate).into_iter().enumerate() {
+    let normals = (o.friction.cnf, o.friction.cnm1);
+    for (e, x) in slip_stick(f, fs, pos, rate, normals).into_iter().enumerate() {
         if let Some(x) = x {
             v.put(SLIP_STICK + e, x);
         }
@@ -257,16 +260,39 @@ pub fn bits(mask: u32) -> impl Iterator<Item = usize> {
 }
 
 /// The slip → stick functions of the slipping effects, sliding (or coupled) and spin (None:
-/// not slipping): the slip power of the committed friction force `fs.force` at the slip rates
-/// `rate`, positive while the slip goes on.
+/// not slipping). With a stick damper, the trial force minus its limit
+/// (`friction::slip_stick_function`: the plastic slip stops where the trial falls inside the
+/// limit, while the relative slip still goes on); without, the slip power of the committed
+/// friction force `fs.force` at the slip rates `rate`, v·f (the plastic slip follows the
+/// relative slip and stops where it reverses). Positive while the slip goes on.
 #[inline(always)]
-fn slip_power(coupled: bool, fs: &FrictionState, rate: [Real; 3]) -> [Option<Real>; 2] {
+fn slip_stick(
+    f: &FrictionParams,
+    fs: &FrictionState,
+    pos: [Real; 3],
+    rate: [Real; 3],
+    normals: (Real, Real),
+) -> [Option<Real>; 2] {
+    let coupled = f.coupling == 1;
+    let damped = if coupled {
+        [f.c_stick > 0.0 && f.c_stick_r1 > 0.0; 2]
+    } else {
+        [f.c_stick > 0.0, f.c_stick_r1 > 0.0]
+    };
+    let slipping = [fs.status == Status::Slip, fs.status_r1 == Status::Slip && !coupled];
+    if !(slipping[0] || slipping[1]) {
+        return [None; 2];
+    }
+    let trial = (damped[0] || damped[1]).then(|| slip_stick_function(f, fs, pos, rate, normals));
     let [f2, f3, m1] = fs.force;
     let (slide, spin) = (rate[0] * f2 + rate[1] * f3, rate[2] * m1);
-    [
-        (fs.status == Status::Slip).then_some(if coupled { slide + spin } else { slide }),
-        (fs.status_r1 == Status::Slip && !coupled).then_some(spin),
-    ]
+    let power = [if coupled { slide + spin } else { slide }, spin];
+    std::array::from_fn(|e| {
+        slipping[e].then(|| match trial {
+            Some(t) if damped[e] => t[e],
+            _ => power[e],
+        })
+    })
 }
 
 /// Turns `v = values_on(ct, p, a, o)` into `values_on(ct, p, b, o)` for the same outputs and
@@ -312,8 +338,9 @@ pub fn values_after(
         return;
     }
     if fb.status == Status::Slip || fb.status_r1 == Status::Slip {
-        let rate = [o.cv[1], o.cv[2], o.cv[3]];
-        for (e, x) in slip_power(coupled, fb, rate).into_iter().enumerate() {
+        let (pos, rate) = ([o.cp[1], o.cp[2], o.cp[3]], [o.cv[1], o.cv[2], o.cv[3]]);
+        let normals = (o.friction.cnf, o.friction.cnm1);
+        for (e, x) in slip_stick(&p.friction, fb, pos, rate, normals).into_iter().enumerate() {
             if let Some(x) = x {
                 v.put(SLIP_STICK + e, x);
             }

@@ -303,9 +303,16 @@ pub fn update<T: Scalar>(
     let slide = norm2(rate[0], rate[1]);
     let spin = rate[2].abs() * rho;
     let speed_for = |status: Status, v: T, committed: T| match (stepping, status) {
-        (true, Status::Slip) => v,
+        (_, Status::Slip) => v,
         (true, _) => zero,
         (false, _) => committed,
+    };
+    // A breakaway in this substep (stick or no normal force before it, slip after it, μ
+    // decaying with speed): the decision is taken at μ_s, and the force returns onto the limit
+    // at the current slip speed, where a slip goes on from and where a read here takes μ from
+    // (so that a step ending at the breakaway reports the right limit, as a read there does).
+    let breakaway = |now: Status, before: Status, v: T| {
+        (stepping && p.decay > 0.0 && now == Status::Slip && before != Status::Slip).then_some(v)
     };
 
     let (f, m) = if p.coupling == 1 {
@@ -319,6 +326,14 @@ pub fn update<T: Scalar>(
         let (scale, status) = return_status(norm, limit, f_nc, (on_limit(0), flowing));
         next.status = status;
         next.status_r1 = status;
+        let (limit, scale) = match breakaway(status, st.status, norm2(slide, spin)) {
+            Some(v) => {
+                next.mu_rate = [v, v];
+                let kinetic = (p.mu(v) * f_nc).min(T::cst(p.max_force));
+                (kinetic, kinetic / norm)
+            }
+            None => (limit, scale),
+        };
         if scale.re() == 1.0 {
             (f_tr, m_tr)
         } else if start {
@@ -339,21 +354,54 @@ pub fn update<T: Scalar>(
         let limit = (p.mu(v) * f_nc).min(T::cst(p.max_force));
         let load = loading(st, pos, [f_tr[0], f_tr[1], m_tr]);
         let flowing = on_limit_slips(stepping, load[0].re(), st.status);
-        let (scale, status) =
-            return_status(norm2(f_tr[0], f_tr[1]), limit, f_nc, (on_limit(0), flowing));
+        let f_abs = norm2(f_tr[0], f_tr[1]);
+        let (mut scale, status) = return_status(f_abs, limit, f_nc, (on_limit(0), flowing));
         let flowing_r = on_limit_slips(stepping, load[1].re(), st.status_r1);
-        let (scale_r, status_r) = return_status(
+        let (mut scale_r, status_r) = return_status(
             m_tr.abs(),
             p.mu(v_r) * m_nr1,
             m_nr1,
             (on_limit(1), flowing_r),
         );
+        if let Some(v) = breakaway(status, st.status, slide) {
+            next.mu_rate[0] = v;
+            scale = (p.mu(v) * f_nc).min(T::cst(p.max_force)) / f_abs;
+        }
+        if let Some(v) = breakaway(status_r, st.status_r1, spin) {
+            next.mu_rate[1] = v;
+            scale_r = p.mu(v) * m_nr1 / m_tr.abs();
+        }
         next.status = status;
         next.status_r1 = status_r;
         ([f_tr[0] * scale, f_tr[1] * scale], m_tr * scale_r)
     };
     // plastic slip Δs = (trial − returned)/(k + c/h), its rate, accumulation and dissipation
-    let excess = [f_tr[0] - f[0], f_tr[1] - f[1], m_tr - m];
+    let mut excess = [f_tr[0] - f[0], f_tr[1] - f[1], m_tr - m];
+    // With a stick damper, a slipping substep's elastic slip follows the damped spring,
+    // c ė + k e = f, under the force ramping from the committed one to the returned one
+    // (`damped_elastic`: exact for that ramp, so second order and L-stable); its plastic slip
+    // is then what the elastic slip does not take, and the plastic rate kept for the force at
+    // the end is rate − ė (`relaxed`). (Backward Euler with the rate at the substep's end, as
+    // the return map's stiffness k + c/h alone gives, let the damper carry c·a·h/2 of the force
+    // while the slip decelerates at a: an O(h) error in the elastic slip that the plastic slip
+    // kept at the next re-stick.) Coupled, the disc's flow rule keeps its own return.
+    let mut relaxed: [Option<(T, T)>; 3] = [None; 3];
+    if stepping && p.coupling != 1 {
+        let slips = [next.status, next.status, next.status_r1].map(|s| s == Status::Slip);
+        let (k, c) = (
+            [p.k_stick, p.k_stick, p.k_stick_r1],
+            [p.c_stick, p.c_stick, p.c_stick_r1],
+        );
+        let et = elastic(st);
+        let f1 = [f[0], f[1], m];
+        for i in 0..3 {
+            if slips[i] && c[i] > 0.0 {
+                let e1 = damped_elastic(k[i], c[i], h, st.elastic[i], st.force[i], f1[i]);
+                excess[i] = (et[i] - e1) * k_ret[if i == 2 { 1 } else { 0 }];
+                relaxed[i] = Some((e1, rate[i] - (f1[i] - e1 * k[i]) / c[i]));
+            }
+        }
+    }
     if start {
         // the excess over the limit is a plastic rate, (trial − returned)/c (a return happens
         // only with a damper: the trial of an unstretched spring alone is zero)
@@ -388,7 +436,12 @@ pub fn update<T: Scalar>(
     next.slip_acc += flat(norm2(ds[0], ds[1]), at_kink[0]);
     next.slip_acc_r1 += flat(ds_r.abs(), at_kink[1]);
     if stepping {
-        next.slip_rate = [ds[0] / h, ds[1] / h, ds_r / h];
+        let rate_of = |x: T, r: Option<(T, T)>| r.map_or(x / h, |(_, rate)| rate);
+        next.slip_rate = [
+            rate_of(ds[0], relaxed[0]),
+            rate_of(ds[1], relaxed[1]),
+            rate_of(ds_r, relaxed[2]),
+        ];
     }
     // The force as spring and damper give it from the new plastic slip and rate: the same
     // expression a later evaluation at this point starts from, so both report the same bits.
@@ -407,6 +460,22 @@ pub fn update<T: Scalar>(
             * 0.5,
         state: next,
     }
+}
+
+/// The elastic slip at the end of a slipping substep of length `h` with a stick damper: the
+/// solution of c ė + k e = f(τ), f ramping from `f0` to `f1`, from `e0`:
+/// e(h) = [f1 + (k e0 − f0) E + (f1 − f0) φ(kh/c)] / k, E = exp(−kh/c), φ(x) = (E − 1)/x
+/// (its series below x = 1e-3, where E − 1 would lose digits).
+#[inline]
+fn damped_elastic<T: Scalar>(k: Real, c: Real, h: Real, e0: T, f0: T, f1: T) -> T {
+    let x = k * h / c;
+    let big_e = (-x).exp();
+    let phi = if x < 1e-3 {
+        -1.0 + x * (0.5 - x * (1.0 / 6.0 - x / 24.0))
+    } else {
+        (big_e - 1.0) / x
+    };
+    (f1 + (e0 * k - f0) * big_e + (f1 - f0) * phi) / k
 }
 
 /// Elastic slip (y, z, α parts) at positions `pos` from the plastic slip of `st`.
@@ -456,16 +525,62 @@ pub fn stick_slip_function(
     st: &FrictionState,
     pos: [Real; 3],
     rate: [Real; 3],
+    normals: (Real, Real),
+) -> [Real; 2] {
+    trial_minus_limit(p, st, pos, rate, normals, [0.0; 2])
+}
+
+/// The slip speeds μ is taken at (m/s): sliding, spin at the effective radius ρ = 2R/3 (|α̇|
+/// when R = 0), and coupled, the two together, as `update` takes them.
+#[inline]
+pub fn slip_speeds(p: &FrictionParams, rate: [Real; 3]) -> [Real; 2] {
+    let rho = if p.radius > 0.0 {
+        2.0 / 3.0 * p.radius
+    } else {
+        1.0
+    };
+    let (slide, spin) = (norm2(rate[0], rate[1]), rate[2].abs() * rho);
+    if p.coupling == 1 {
+        let v = norm2(slide, spin);
+        [v, v]
+    } else {
+        [slide, spin]
+    }
+}
+
+/// The slip → stick event functions of a substep that starts slipping from `st` with a stick
+/// damper (`damped` per effect): the trial force minus its limit with μ at the current slip
+/// speeds, which is what `update` compares at the substep's end (> 0: the plastic slip goes
+/// on; it stops where the trial falls inside the limit, before the relative slip reverses
+/// when the damper carries part of the force or μ rises as the slip slows).
+pub fn slip_stick_function(
+    p: &FrictionParams,
+    st: &FrictionState,
+    pos: [Real; 3],
+    rate: [Real; 3],
+    normals: (Real, Real),
+) -> [Real; 2] {
+    trial_minus_limit(p, st, pos, rate, normals, slip_speeds(p, rate))
+}
+
+/// The trial force (no plastic rate) minus its limit with μ at the slip speeds `speed`,
+/// sliding (or the coupled ellipsoid) and spin.
+fn trial_minus_limit(
+    p: &FrictionParams,
+    st: &FrictionState,
+    pos: [Real; 3],
+    rate: [Real; 3],
     (f_nc, m_nr1): (Real, Real),
+    speed: [Real; 2],
 ) -> [Real; 2] {
     let [f2, f3, m1] = trial(p, st, pos, rate, [0.0; 3]);
-    let limit = (p.mu(0.0) * f_nc).min(p.max_force);
+    let limit = (p.mu(speed[0]) * f_nc).min(p.max_force);
     if p.coupling == 1 {
         let rho = 2.0 / 3.0 * p.radius;
         let phi = (f2 * f2 + f3 * f3 + (m1 / rho) * (m1 / rho)).sqrt() - limit;
         [phi, phi]
     } else {
-        [norm2(f2, f3) - limit, m1.abs() - p.mu(0.0) * m_nr1]
+        [norm2(f2, f3) - limit, m1.abs() - p.mu(speed[1]) * m_nr1]
     }
 }
 
@@ -868,12 +983,54 @@ mod tests {
         let s = update(&p, &r.state, n, pos, rate, Eval::Step(h));
         assert_eq!(s.out.status, Status::Slip);
         assert!((s.force[0] - 5.0).abs() < 1e-12);
-        let ds = (15.0 - 5.0) / (1e4 + 50.0 / h);
-        assert!((s.state.slip_plastic[0] - ds).abs() < 1e-15);
-        assert!((s.state.slip_rate[0] - ds / h).abs() < 1e-12);
+        // the elastic slip follows c ė + k e = f(τ), f ramping from the stick force 2 N to the
+        // limit 5 N over the substep, from e0 = 1e-4: e = A + Bτ + (e0 − A) exp(−kτ/c) with
+        // B = (df/dτ)/k, A = f0/k − (df/dτ) c/k²; the plastic slip is the rest of the motion
+        let (k, c, e0, f0, f1) = (1e4, 50.0, 1e-4, 2.0, 5.0);
+        let slope = (f1 - f0) / h;
+        let (b, a) = (slope / k, f0 / k - slope * c / (k * k));
+        let e1 = a + b * h + (e0 - a) * (-k * h / c).exp();
+        assert!((s.state.slip_plastic[0] - (1e-3 - e1)).abs() < 1e-15);
+        // the force at the end is spring plus damper at the elastic rate ė = (f1 − k e1)/c
+        assert!((s.state.slip_rate[0] - (0.1 - (f1 - k * e1) / c)).abs() < 1e-9);
         let again = update(&p, &s.state, n, pos, rate, Eval::Read);
         assert_eq!(again.force, s.force);
         assert_eq!(again.out.status, Status::Slip);
+    }
+
+    /// A damped stick spring relaxing while the contact slips on a constant limit: the elastic
+    /// slip is integrated exactly, so one substep and ten substeps of a tenth give the same
+    /// elastic slip (backward Euler would not: e1 = (e0 + h f/c)/(1 + kh/c) per substep).
+    #[test]
+    fn damped_elastic_slip_is_exact_for_a_constant_limit() {
+        let p = FrictionParams {
+            c_stick: 50.0,
+            ..params()
+        };
+        let (n, h, v) = ([-10.0, 0.0, 0.0], 2e-3, 0.1);
+        // slipping at 0.1 m/s on the limit μN = 5 N, the spring stretched to 6e-4 (6 N)
+        let st = FrictionState {
+            status: Status::Slip,
+            elastic: [6e-4, 0.0, 0.0],
+            force: [5.0, 0.0, 0.0],
+            slip_rate: [v - (5.0 - 6.0) / 50.0, 0.0, 0.0],
+            ..FrictionState::default()
+        };
+        let path = |s: &FrictionState, t: Real| {
+            let pos = [s.slip_plastic[0] + 6e-4 + v * t, 0.0, 0.0];
+            (pos, [v, 0.0, 0.0])
+        };
+        let (pos, rate) = path(&st, h);
+        let one = update(&p, &st, n, pos, rate, Eval::Step(h));
+        let mut s = st;
+        for i in 1..=10 {
+            let (pos, rate) = path(&st, h * i as Real / 10.0);
+            s = update(&p, &s, n, pos, rate, Eval::Step(h / 10.0)).state;
+        }
+        let exact = 5e-4 + (6e-4 - 5e-4) * (-1e4 * h / 50.0).exp();
+        assert_eq!(one.out.status, Status::Slip);
+        assert!((one.state.elastic[0] - exact).abs() < 1e-16, "{:e}", one.state.elastic[0]);
+        assert!((s.elastic[0] - exact).abs() < 1e-16, "{:e}", s.elastic[0]);
     }
 
     /// Along any path of substeps, the trapezoidal work of the friction force equals the change
