@@ -50,7 +50,7 @@ def methods_of(scene, quick=False):
         out += [(m + FMI3_SUFFIX, [H for H in FMI3_SWEEP if H in ev]) for m in EV_METHODS]
     return out
 FIXED = ["scene", "method", "H", "steps", "cpu_s", "us_per_step", "fmi_calls", "calls_per_step",
-         "rollback_passes", "events", "failed", "error", "error2"]
+         "rollback_passes", "events", "failed", "error", "error_rigid", "error2"]
 
 
 def tasks(scene, quick=False):
@@ -99,7 +99,8 @@ def chart_rows(scene, tasks, results):
                "calls_per_step": (r.get("fmi_calls") or 0) / max(steps, 1),
                "rollback_passes": r.get("rollback_passes"),
                "failed": r["message"] if r["status"] != "ok" else "",
-               "error": fig.get("error", np.nan), "error2": fig.get("error2", np.nan)}
+               "error": fig.get("error", np.nan), "error_rigid": fig.get("error_rigid", np.nan),
+               "error2": fig.get("error2", np.nan)}
         row.update({k: v for k, v in fig.items() if k not in row})
         rows.append(row)
     return rows

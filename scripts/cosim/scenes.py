@@ -54,6 +54,7 @@ class Scene:
     record = ()                     # extra outputs sampled at the body state
     error_label = "error"
     error2_label = None             # a second error measure (e.g. against the FMU's own model)
+    error_rigid_label = None        # the error against a rigid closed form, beside `error`
 
     def __init__(self, **kw):
         self.__dict__.update(kw)
@@ -64,8 +65,13 @@ class Scene:
     def after_init(self, fmu):
         pass
 
-    def prepare(self, unzipdir=None):
-        """Anything a chart needs before the sweep (a fine reference run)."""
+    fine = None                     # (method, H) of the reference task, when the scene has one
+
+    def fine_reference(self, unzipdir=None):
+        """The figures of the scene's reference (run by the sweep's reference task): here, a fine
+        run of `fine`; a scene with an independent reference overrides this."""
+        from .master import simulate
+        return self.measure(simulate(self, *self.fine, unzipdir=unzipdir))
 
 
 # =================================================================================================
@@ -74,36 +80,47 @@ class Scene:
 class Belt(Scene):
     """Mass m on a belt moving along e2a at v_b, spring k to ground (part of the master's body).
     PLANAR: node a = the belt (a.r[2] = v_b t), node b = the mass (y = b.r[2]); the normal load
-    m g comes from the SLIDE-PLANE penalty (node b pressed by m g / constraint.stiffness below its
-    initial plane offset, normal motion prescribed). μ_s = 0.5, μ_k = 0.3 with a sharp exponential
-    decay d_c (friction.decay) for the static/kinetic step. The stick spring (k_s = 1e6 N/m) is
-    critically damped for the 1 kg mass (friction.stickDamping = 2 sqrt(k_s m)): without it,
-    it rings at re-stick and breaks away early (README, finding 2).
+    m g is the internal contact force friction.Fint (the plane is at b's initial position, so b
+    stays in it and loads nothing normal to it; a master that cannot press b after
+    initialization, as an SSP system's, sets the same). μ_s = 0.5, μ_k = 0.3 with a sharp
+    exponential decay d_c (friction.decay) for the static/kinetic step. The stick spring
+    (k_s = 1e6 N/m) is critically damped for the 1 kg mass (friction.stickDamping = 2 sqrt(k_s m)):
+    without it, it rings at re-stick and breaks away early (docs/cosim.md, finding 2).
 
-    Reference (Karnopp-type closed form, docs/cosim.md, scene 1): stick 2Δ/v_b, slip (π + 2β)/ω, period, and
-    x_max = x_k + sqrt(Δ² + (v_b/ω)²).
+    Truth (`error`): the FMU's model in continuous time, body and friction law integrated together
+    (reference.py, the monolithic reference; its figures come to a run as `fine_values`, from the
+    sweep's reference task, or are computed here). Beside it (`error_rigid`): the rigid
+    Karnopp-type closed form (docs/cosim.md, scene 1): stick 2Δ/v_b, slip (π + 2β)/ω, period,
+    x_max = x_k + sqrt(Δ² + (v_b/ω)²), from which the model's own cycle lies 2.6e-5 away (x_max).
     Measured: after the first breakaway, period = mean interval between upward crossings of
     y = x_k (they fall in the stick phase); x_max = mean of the cycle maxima (3-point parabola);
     breakaway = upward crossing of x_s, re-stick = upward crossing of x_k − Δ, so
     slip = re-stick − breakaway and stick = breakaway − previous re-stick.
-    error = max(|ΔT|/T, |Δx_max|/x_max)."""
+    error = max(|ΔT|/T, |Δx_max|/x_max) against the reference, error_rigid against the closed
+    form."""
 
     name, title, variant = "belt", "§1 belt stick-slip (Planar)", "Planar"
     m, k, vb, mus, muk = 1.0, 100.0, 0.2, 0.5, 0.3
     decay = 1e5                     # s/m: μ within 1 % of μ_k above 46 µm/s
     k_stick = 1e6                   # N/m (the FMU's default)
     c_stick = 2e3                   # N.s/m: 2 sqrt(k_stick m), the stick critically damped
-    k_c = 1e7                       # constraint.stiffness (default)
     t_end = 3.5
     sweep = (1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5, 1e-5)
     tol = 1e-10
-    error_label = "against the closed form (docs/cosim.md, scene 1): max(|ΔT|/T, |Δx_max|/x_max)"
+    error_label = ("against the FMU model in continuous time (monolithic reference):\n"
+                   "max(|ΔT|/T, |Δx_max|/x_max)")
+    error_rigid_label = "against the rigid closed form (Karnopp): max(|ΔT|/T, |Δx_max|/x_max)"
 
     @property
     def params(self):
         return {"friction.muStatic": self.mus, "friction.muKinetic": self.muk,
                 "friction.decay": self.decay, "friction.stickStiffness": self.k_stick,
-                "friction.stickDamping": self.c_stick, "constraint.stiffness": self.k_c}
+                "friction.stickDamping": self.c_stick, "friction.Fint": self.m * G}
+
+    def law_parameters(self):
+        """(m, k, v_b, μ_s, μ_k, d_c, k_s, c_s, N) of the monolithic reference."""
+        return (self.m, self.k, self.vb, self.mus, self.muk, self.decay, self.k_stick,
+                self.c_stick, self.m * G)
 
     def reference(self):
         N = self.m * G
@@ -120,26 +137,19 @@ class Belt(Scene):
     def init_inputs(self):
         return {**node_inputs("a", v=(0, self.vb, 0)), **node_inputs("b", v=(0, self.vb, 0))}
 
-    def after_init(self, fmu):
-        fmu.set({"b.r[1]": -self.m * G / self.k_c})     # press: |f1| = m g
-
     def initial_state(self):
         return [0.0], [self.vb]
 
-    fine = ("rollback", 5e-6)         # the FMU model's own answer: a fine run (`prepare`)
+    fine = ("monolithic", 1e-4)       # the reference task: reference.py (`fine_reference`)
     fine_values = None
-    error2_label = ("against the FMU model's own cycle (fine run: rollback, H = 5e-6 s):\n"
-                    "max(|ΔT|/T, |Δx_max|/x_max)")
 
-    def prepare(self, unzipdir=None):
-        """Measure the fine run that error2 compares against (the FMU model's converged cycle)."""
-        from .master import simulate
-        method, H = self.fine
-        self.fine_values = None
-        self.fine_values = self.measure(simulate(self, method, H, unzipdir=unzipdir))
-        return self.fine_values
+    def fine_reference(self, unzipdir=None):
+        """The monolithic reference's figures (the truth `error` is measured against)."""
+        from .reference import belt_figures
+        return belt_figures(self)
 
-    def measure(self, res):
+    def measure_cycle(self, res):
+        """Period, x_max, stick, slip and the number of cycles of a run (see the class)."""
         ref = self.reference()
         t, y = res.t, res.p[:, 0]
         out = {"period": np.nan, "x_max": np.nan, "stick": np.nan, "slip": np.nan, "cycles": 0}
@@ -162,13 +172,16 @@ class Belt(Scene):
                 sticks = [b_ - r for r in restick for b_ in brk[brk > r][:1]]
                 out["slip"] = float(np.mean(slips)) if slips else np.nan
                 out["stick"] = float(np.mean(sticks)) if sticks else np.nan
-        for key in ("period", "x_max", "stick", "slip"):
-            out[f"err_{key}"] = abs(out[key] - ref[key]) / ref[key]
-        out["error"] = max(out["err_period"], out["err_x_max"])
-        f = self.fine_values
-        if f is not None:
-            out["error2"] = max(abs(out["period"] - f["period"]) / f["period"],
-                                abs(out["x_max"] - f["x_max"]) / f["x_max"])
+        return out
+
+    def measure(self, res):
+        out = self.measure_cycle(res)
+        if self.fine_values is None:
+            self.fine_values = self.fine_reference()
+        for name, ref in (("", self.fine_values), ("_rigid", self.reference())):
+            for key in ("period", "x_max", "stick", "slip"):
+                out[f"err{name}_{key}"] = abs(out[key] - ref[key]) / ref[key]
+            out[f"error{name}"] = max(out[f"err{name}_period"], out[f"err{name}_x_max"])
         return out
 
 
@@ -178,10 +191,16 @@ class Belt(Scene):
 class Puck(Scene):
     """Uniform disc (R, m, J = m R²/2) sliding along e2a at v0 and spinning about e1a at ω0 on
     the plane of node a. PLANAR, 2 dof: y = b.r[2] and α (b.q = rotation about x); normal load
-    m g from the SLIDE-PLANE penalty (so F_NC = m g and M_NR1 = (2/3) R m g as the seed's
-    formulas give), μ = 0.3 without decay.
+    m g as the internal contact loads friction.Fint = m g and friction.Mint = (2/3) R m g (so
+    F_NC = m g and M_NR1 = (2/3) R m g as the seed's formulas give for a disc pressed by its
+    weight; b stays in the plane it starts in), μ = 0.3 without decay.
 
-    coupling 0 — reference (docs/cosim.md, scene 4): t_v = v0/(μ g), t_ω = 3 R ω0/(4 μ g).
+    coupling 0 — truth (`error`): the FMU's model in continuous time, the elastic closed forms
+    (docs/cosim.md, scene 4): the puck starts sticking on the stick springs k_s, k_r and breaks
+    away at t_b = asin(μ m g ω/(k_s v0))/ω, ω = √(k_s/m), so that sliding stops at
+    t_v = t_b + v0 cos(ω t_b)/(μ g); spin likewise with J, k_r and M_R = (2/3) R μ m g. Beside it
+    (`error_rigid`): the rigid forms t_v = v0/(μ g), t_ω = 3 R ω0/(4 μ g), their limit as the
+    stick stiffnesses grow.
     coupling 1 — reference (physics of a uniform-pressure disc, Farkas et al. 2003, computed
     here independently by quadrature over the disc, `disc_reference`): both stop at the same
     instant t_stop and v/(R ω) → 0.653. Beside it, what the FMU's law (the disc's direction on
@@ -190,14 +209,14 @@ class Puck(Scene):
     Measured: t_v, t_ω = first zero crossings of v and ω (linear interpolation);
     t_stop = t_v, stop_gap = |t_v − t_ω|; ratio = v/(R ω) where v = RATIO_AT·v0 (also
     reported where v = 0.3, 0.1, 0.05 v0).
-    error (coupling 0) = max(|Δt_v|/t_v, |Δt_ω|/t_ω);
+    error (coupling 0) = max(|Δt_v|/t_v, |Δt_ω|/t_ω) against the elastic forms, error_rigid
+    against the rigid ones;
     (coupling 1) error = |Δt_stop|/t_stop against the disc, error2 = against the FMU's model;
     err_ratio = |ratio − 0.653|/0.653."""
 
     variant = "Planar"
     m, R, mu, v0, w0 = 1.0, 0.1, 0.3, 1.0, 5.0
     coupling = 0
-    k_c = 1e7
     t_end = 0.5
     sweep = (1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5)
     tol = 1e-10
@@ -213,8 +232,14 @@ class Puck(Scene):
 
     @property
     def error_label(self):
-        return ("against the closed forms: max(|Δt_v|/t_v, |Δt_ω|/t_ω)" if self.coupling == 0
+        return ("against the elastic closed forms (the FMU's model): max(|Δt_v|/t_v, |Δt_ω|/t_ω)"
+                if self.coupling == 0
                 else "stop time against the exact disc (physics): |Δt_stop|/t_stop")
+
+    @property
+    def error_rigid_label(self):
+        return ("against the rigid closed forms: max(|Δt_v|/t_v, |Δt_ω|/t_ω)"
+                if self.coupling == 0 else None)
 
     @property
     def error2_label(self):
@@ -229,17 +254,31 @@ class Puck(Scene):
     def params(self):
         return {"friction.muStatic": self.mu, "friction.muKinetic": self.mu, "friction.R": self.R,
                 "friction.coupling": self.coupling, "friction.stickStiffness": self.k_stick,
-                "friction.stickStiffnessR1": self.k_stick_r1, "constraint.stiffness": self.k_c}
+                "friction.stickStiffnessR1": self.k_stick_r1, "friction.Fint": self.m * G,
+                "friction.Mint": 2.0 / 3.0 * self.R * self.m * G}
 
     def reference(self):
         if self.coupling == 0:
-            return {"t_v": self.v0 / (self.mu * G), "t_w": 3 * self.R * self.w0 / (4 * self.mu * G)}
+            return {"t_v": self.v0 / (self.mu * G), "t_w": 3 * self.R * self.w0 / (4 * self.mu * G),
+                    **self.elastic_reference()}
         eps0 = self.v0 / (self.R * self.w0)
         rate = self.mu * G / (self.R * self.w0)
         d = disc_reference(eps0, rate, self.RATIO_AT)
         e = disc_reference(eps0, rate, self.RATIO_AT, "ellipsoid")
         return {"t_stop": d["t_stop"], "ratio": d["ratio"], "ratio_limit": 0.653,
                 "t_stop_model": e["t_stop"], "ratio_model": e["ratio"]}
+
+    def elastic_reference(self):
+        """The elastic closed forms (coupling 0): each effect sticks on its spring from t = 0 (an
+        undamped oscillator, ω = √(k/inertia)) until its force reaches the limit L at
+        t_b = asin(L ω/(k v0))/ω, then decelerates at L/inertia from v0 cos(ω t_b)."""
+        def stop(inertia, k, v0, limit):
+            w = math.sqrt(k / inertia)
+            tb = math.asin(limit * w / (k * v0)) / w
+            return tb + inertia * v0 * math.cos(w * tb) / limit
+        return {"t_v_elastic": stop(self.m, self.k_stick, self.v0, self.mu * self.m * G),
+                "t_w_elastic": stop(self.J, self.k_stick_r1, self.w0,
+                                    2.0 / 3.0 * self.R * self.mu * self.m * G)}
 
     def model_ratio(self, v_frac):
         """v/(R ω) of the FMU's law (`disc_reference(..., "ellipsoid")`) where v = v_frac·v0."""
@@ -251,9 +290,6 @@ class Puck(Scene):
 
     def init_inputs(self):
         return {**node_inputs("a"), **node_inputs("b", v=(0, self.v0, 0), w=(self.w0, 0, 0))}
-
-    def after_init(self, fmu):
-        fmu.set({"b.r[1]": -self.m * G / self.k_c})     # press: |f1| = m g
 
     def initial_state(self):
         return [0.0, 0.0], [self.v0, self.w0]
@@ -269,9 +305,10 @@ class Puck(Scene):
         if res.failed is not None:
             out["t_v"] = out["t_w"] = np.nan
         if self.coupling == 0:
-            out["err_t_v"] = abs(out["t_v"] - ref["t_v"]) / ref["t_v"]
-            out["err_t_w"] = abs(out["t_w"] - ref["t_w"]) / ref["t_w"]
-            out["error"] = max(out["err_t_v"], out["err_t_w"])
+            for name, sfx in (("", "_elastic"), ("_rigid", "")):
+                for key in ("t_v", "t_w"):
+                    out[f"err{name}_{key}"] = abs(out[key] - ref[key + sfx]) / ref[key + sfx]
+                out[f"error{name}"] = max(out[f"err{name}_t_v"], out[f"err{name}_t_w"])
             return out
         for frac in (0.3, 0.1, 0.05, self.RATIO_AT):
             tr = crossings(t, v, frac * self.v0, -1)
