@@ -92,26 +92,21 @@ impl Var {
 
     /// Ok when `x` lies in [min, max]; otherwise the message naming the variable and bound.
     pub fn check_range(&self, x: f64) -> Result<(), String> {
-        if let Some(min) = self.min.filter(|&m| x < m) {
-            let bound = if min == POSITIVE {
-                "> 0".to_string()
-            } else {
-                format!(">= {}", xml_real(min))
-            };
-            return Err(format!(
-                "{} = {} is refused: it must be {bound}",
-                self.name, x
-            ));
-        }
-        if let Some(max) = self.max.filter(|&m| x > m) {
-            return Err(format!(
-                "{} = {} is refused: it must be <= {}",
-                self.name,
-                x,
-                xml_real(max)
-            ));
-        }
-        Ok(())
+        let show = |x: f64| match self.is_integer() {
+            true => format!("{}", x as i64),
+            false => format!("{x:?}"),
+        };
+        let bound = match (self.min, self.max) {
+            (Some(min), _) if x < min && min == POSITIVE => "> 0".to_string(),
+            (Some(min), _) if x < min => format!(">= {}", show(min)),
+            (_, Some(max)) if x > max => format!("<= {}", show(max)),
+            _ => return Ok(()),
+        };
+        Err(format!(
+            "{} = {} is refused: it must be {bound}",
+            self.name,
+            show(x)
+        ))
     }
 }
 
@@ -392,10 +387,13 @@ mod tests {
         let mass = by_name("mass").unwrap();
         assert_eq!(
             mass.check_range(0.0).unwrap_err(),
-            "mass = 0 is refused: it must be > 0"
+            "mass = 0.0 is refused: it must be > 0"
         );
         let dof = by_name("dof.w[2]").unwrap();
-        assert!(dof.check_range(3.0).unwrap_err().contains("<= 2.0"));
+        assert!(dof
+            .check_range(3.0)
+            .unwrap_err()
+            .contains("dof.w[2] = 3 is refused: it must be <= 2"));
         assert!(guid().starts_with('{') && guid().len() == 38);
     }
 }

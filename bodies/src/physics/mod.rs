@@ -144,7 +144,7 @@ pub fn step(p: &Params, b: &Body, load: &Load, elapsed: f64, h: f64) -> Result<B
     ];
     match parts.iter().find(|(_, x)| x.iter().any(|x| !x.is_finite())) {
         Some((name, _)) => Err(format!(
-            "the step gives a {name} that is not finite (load or step too large?); the state stays at the step's start"
+            "the step gives values of {name} that are not finite (load or step too large?); the state stays at the step's start"
         )),
         None => Ok(n),
     }
