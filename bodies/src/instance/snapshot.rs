@@ -2,10 +2,10 @@
 //! bytes: a magic, a format version, the fields in a fixed order (little endian) and an
 //! FNV-1a checksum. Bytes are decoded only through the checks the setters make (every value
 //! finite and in its variable's range, the parameters fitting together once initialized), so
-//! corrupt or foreign bytes never become a state. Uses `super::Data`, `crate::variables` and
+//! corrupt or foreign bytes never become a state. Uses `super::data`, `crate::variables` and
 //! `crate::physics`.
 
-use super::{Data, Mode};
+use super::data::{Data, Mode};
 use crate::physics::{self, Body};
 use crate::variables::{fnv1a, int, real, Slot, VARS};
 

@@ -4,7 +4,8 @@
 //! variable, and outputs are computed from the body when read. Uses the instance's data
 //! (`super`), `crate::variables` and `crate::physics`.
 
-use super::{Call, FmiVersion, Instance, Mode};
+use super::data::Mode;
+use super::{Call, FmiVersion, Instance};
 use crate::error::{FmuError, FmuResult};
 use crate::physics::{self, Body};
 use crate::variables::{by_vr, Causality, Out, Slot, Var, TIME_VR};

@@ -1,10 +1,10 @@
 //! Model 0 ("axes"): every degree of freedom is a translation along, or a rotation about, a
 //! world axis, integrated exactly and independently under the load held over the step. One
 //! coordinate's update is master.py's `AxesBody.advance` with Q0 = Q1 = Q, written operation
-//! for operation (its two groupings included). Uses `super::quat` and the types of `super`.
+//! for operation (its two groupings included). Uses `super::quat` and `super::types`.
 
 use super::quat::{about_axis, normalized};
-use super::{Body, Dof, Load, Params};
+use super::types::{Body, Dof, Load, Params};
 
 /// The exact motion of one coordinate, m x'' + k x = Q with Q held, over h, from (x, u).
 ///

@@ -2,10 +2,10 @@
 //! held (Q0 = Q1 = Q), written operation for operation: the body-frame angular velocity
 //! ω_b = R(q)ᵀ ω at the step's start, nsub = max(1, ⌈|ω_b| h / rigid.maxTurn⌉) substeps of
 //! classical RK4 on ṙ = v, q̇ = ½ q ⊗ (0, ω_b), v̇ = Q_f/m, J ω̇_b = R(q)ᵀ m − ω_b × (J ω_b), q
-//! normalised after each substep, then ω = R(q) ω_b. Uses `super::quat` and the types of `super`.
+//! normalised after each substep, then ω = R(q) ω_b. Uses `super::quat` and `super::types`.
 
 use super::quat::{cross, mat_t_vec, mat_vec, matrix, mul, norm, Quat, Vec3};
-use super::{Body, Load, Params};
+use super::types::{Body, Load, Params};
 
 /// More substeps than this in one step are refused (a step or spin far too large).
 pub const MAX_SUBSTEPS: f64 = 1e6;
