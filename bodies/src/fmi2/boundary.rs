@@ -358,3 +358,60 @@ pub(crate) unsafe fn instantiate(
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::{Arc, Mutex};
+
+    /// A LogSink that keeps the messages.
+    struct Keep(Arc<Mutex<Vec<String>>>);
+
+    impl LogSink for Keep {
+        fn log(&self, _: Level, _: Category, message: &str) {
+            self.0.lock().unwrap().push(message.to_string());
+        }
+    }
+
+    #[test]
+    fn a_panic_is_caught_logged_and_leaves_the_instance_fatal() {
+        let log = Arc::new(Mutex::new(Vec::new()));
+        let inst = Instance::new(Box::new(Keep(log.clone())), false, FmiVersion::V2);
+        let c: *mut c_void = Box::into_raw(Box::new(inst)).cast();
+        let st: fmi2Status = ffi_boundary!(c, "fmi2DoStep", {
+            if !c.is_null() {
+                panic!("boom");
+            }
+            fmi2Status::OK
+        });
+        assert_eq!(st, fmi2Status::Fatal);
+        // SAFETY: c is the live Box made above; no other reference exists.
+        let inst = unsafe { instance_mut(c) }.unwrap();
+        let e = inst.allowed(crate::instance::Call::Get).unwrap_err();
+        assert!(e.message.contains("only fmi2FreeInstance is allowed"));
+        let msgs = log.lock().unwrap().clone();
+        assert_eq!(msgs.len(), 1);
+        assert!(msgs[0].starts_with("fmi2DoStep: internal error (Rust panic: boom)"));
+        // SAFETY: the Box made above, released once.
+        drop(unsafe { Box::from_raw(c.cast::<Instance>()) });
+        // without an instance the fallback is returned all the same
+        let p: *const c_char = ffi_boundary!("fmi2GetVersion", { panic!("no instance") });
+        assert!(p.is_null());
+    }
+
+    #[test]
+    fn null_with_a_count_is_refused_and_null_with_zero_is_empty() {
+        // SAFETY: NULL pointers are never dereferenced by these helpers.
+        unsafe {
+            assert_eq!(
+                in_slice::<u32>(std::ptr::null(), 0, "vr[]").unwrap(),
+                &[] as &[u32]
+            );
+            let e = in_slice::<u32>(std::ptr::null(), 3, "vr[]").unwrap_err();
+            assert!(e.message.contains("argument vr[] is NULL but 3 elements"));
+            assert!(out_slice::<f64>(std::ptr::null_mut(), 1, "value[]").is_err());
+            assert!(out_ref::<usize>(std::ptr::null_mut(), "size").is_err());
+            assert!(c_str(std::ptr::null(), "instanceName").is_err());
+        }
+    }
+}
