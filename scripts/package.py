@@ -1,12 +1,14 @@
 #!/usr/bin/env python3
-"""Package every variant into dist/<Variant>.fmu (FMI 2.0 Co-Simulation, linux64).
+"""Package every model into dist/<Model>.fmu (FMI 2.0 Co-Simulation, linux64): the five
+connector variants (crate connector_fmu) and the Body (crate body_fmu, bodies/).
 
-Each FMU holds modelDescription.xml (modelDescription/<Variant>.xml with the commit time as
-generationDateAndTime), binaries/linux64/<Variant>.so (target/release/libconnector_fmu.so with
-its debug information and symbol table stripped) and documentation/index.html generated from
-the model description. The debug information stays beside the FMUs for developers, in
-dist/debug/connector_fmu.so.debug (gdb finds it through the binary's .gnu_debuglink).
-Usage: package.py [Variant ...]   (default: all five)
+Each FMU holds modelDescription.xml (the crate's committed modelDescription/<Model>.xml with
+the commit time as generationDateAndTime), binaries/linux64/<Model>.so (the crate's
+target/release/lib<crate>.so with its debug information and symbol table stripped) and
+documentation/index.html generated from the model description. The debug information stays
+beside the FMUs for developers, in dist/debug/<crate>.so.debug (gdb finds it through the
+binary's .gnu_debuglink).
+Usage: package.py [Model ...]   (default: all six)
 """
 import html
 import os
@@ -16,12 +18,11 @@ import sys
 import tempfile
 import xml.etree.ElementTree as ET
 import zipfile
+from dataclasses import dataclass
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
 VARIANTS = ["Planar", "ProjectionCartesian", "ProjectionFlexionTorsion", "Bushing", "RadialThrust"]
-LIBRARY = REPO / "target" / "release" / "libconnector_fmu.so"
-DEBUG_FILE = "connector_fmu.so.debug"
 TYPES = ("Real", "Integer", "Boolean", "String", "Enumeration")
 
 CONVENTIONS = """<h2>Conventions</h2>
@@ -34,14 +35,71 @@ Abaqus numbering: 1&ndash;3 translations, 4&ndash;6 rotations (ur1 = component 4
 """
 
 
+BODY_CONVENTIONS = """<h2>Conventions</h2>
+<p>SI units throughout; angles in radians. The orientation is a unit quaternion, scalar first
+(<code>q.w, q.x, q.y, q.z</code>), mapping body coordinates to the world frame; positions,
+velocities, the angular velocity, gravity and the load inputs (<code>f</code>: force at the centre
+of mass, <code>m</code>: moment about it) are in the world frame. Over each communication step
+the load set before the step is held, as the project's zero-order-hold master holds it: model 0
+moves along and about world axes, each exactly; model 1 is a free rigid body, classical RK4 in
+substeps that turn it by at most <code>rigid.maxTurn</code>. To couple it to a connector FMU,
+connect the connector's <code>b.f[i]</code>, <code>b.m[i]</code> to <code>f[i]</code>,
+<code>m[i]</code> and <code>r, q, v, w</code> to its node inputs <code>b.r[i]</code>,
+<code>b.q.*</code>, <code>b.v[i]</code>, <code>b.w[i]</code> (or node a's).</p>
+"""
+
+
+@dataclass(frozen=True)
+class Crate:
+    """A crate of the workspace whose one library serves the FMUs of `models` (the GUID passed to
+    Instantiate selects the model)."""
+    name: str                 # the library: target/release/lib<name>.so
+    models: tuple[str, ...]
+    md_dir: Path              # committed FMI 2.0 model descriptions; FMI 3.0 ones in md_dir/fmi3
+    generator: str            # the binary that writes them
+    conventions: str          # the documentation page's Conventions section (HTML)
+
+    @property
+    def library(self) -> Path:
+        return REPO / "target" / "release" / f"lib{self.name}.so"
+
+
+CRATES = (
+    Crate("connector_fmu", tuple(VARIANTS), REPO / "modelDescription", "gen_model_description",
+          CONVENTIONS),
+    Crate("body_fmu", ("Body",), REPO / "bodies" / "modelDescription", "gen_body_model_description",
+          BODY_CONVENTIONS),
+)
+MODELS = [m for c in CRATES for m in c.models]
+
+
+def crate_of(model: str) -> Crate:
+    return next(c for c in CRATES if model in c.models)
+
+
+def selected(args: list[str]) -> list[tuple[Crate, list[str]]]:
+    """The crates and their models named in `args` (every model when empty), each crate's
+    library checked to be built; exits naming what is unknown or missing."""
+    unknown = sorted(set(args) - set(MODELS))
+    if unknown:
+        sys.exit(f"error: unknown model(s) {', '.join(unknown)}; known: {', '.join(MODELS)}")
+    chosen = [(c, [m for m in c.models if not args or m in args]) for c in CRATES]
+    chosen = [(c, ms) for c, ms in chosen if ms]
+    for c, _ in chosen:
+        if not c.library.is_file():
+            sys.exit(f"error: {c.library.relative_to(REPO)} is missing; run cargo build --release")
+    return chosen
+
+
 HEADINGS = ("name", "valueReference", "causality", "variability", "type", "start", "min", "max", "unit",
             "description")
 
 
 def page(root: ET.Element, identity: str, interface: str, rows: list[list[str]]) -> str:
     """The documentation page of either FMI version: model name and description, `identity`
-    (the FMI version and GUID or token line), `interface` (HTML, may be empty), the conventions
-    and the variable table (`rows`, one list of cells per variable in HEADINGS order)."""
+    (the FMI version and GUID or token line), `interface` (HTML, may be empty), the model's
+    conventions and the variable table (`rows`, one list of cells per variable in HEADINGS
+    order)."""
     name = html.escape(root.get("modelName", ""))
     head = "".join(f"<th>{h}</th>" for h in HEADINGS)
     body = "\n".join("<tr>" + "".join(f"<td>{html.escape(c or '')}</td>" for c in r) + "</tr>" for r in rows)
@@ -52,7 +110,7 @@ def page(root: ET.Element, identity: str, interface: str, rows: list[list[str]])
 <h1>{name}</h1>
 <p>{html.escape(root.get("description", ""))}</p>
 <p>{identity}</p>
-{interface}{CONVENTIONS}<h2>Variables</h2>
+{interface}{crate_of(root.get("modelName", "")).conventions}<h2>Variables</h2>
 <table>
 <tr>{head}</tr>
 {body}
@@ -108,9 +166,10 @@ def with_generation_date(xml: bytes, date: str | None) -> bytes:
 
 def stripped_library(library: Path, debug_dir: Path) -> bytes:
     """The library without debug information and symbol table (its exports stay in .dynsym);
-    the debug information is written to debug_dir for developers, linked by .gnu_debuglink."""
+    the debug information is written to debug_dir for developers (<crate>.so.debug), linked by
+    .gnu_debuglink."""
     debug_dir.mkdir(parents=True, exist_ok=True)
-    debug = debug_dir / DEBUG_FILE
+    debug = debug_dir / f"{library.stem.removeprefix('lib')}.so.debug"
     subprocess.run(["objcopy", "--only-keep-debug", str(library), str(debug)], check=True)
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / library.name
@@ -127,14 +186,15 @@ def add(zf: zipfile.ZipFile, arcname: str, data: bytes, mode: int = 0o644) -> No
 
 
 def package(variant: str, out_dir: Path, binaries: list[tuple[str, str, bytes]], date: str | None,
-            md_dir: Path = REPO / "modelDescription", doc=None) -> Path:
-    """Writes out_dir/<variant>.fmu: the model description of `md_dir` (dated), each binary as
-    binaries/<platform>/<modelIdentifier>.<ext> (`binaries`: (platform, ext, bytes)), and the
-    documentation page `doc(root)` (default: the FMI 2.0 page)."""
-    xml_path = md_dir / f"{variant}.xml"
+            fmi3: bool = False, doc=None) -> Path:
+    """Writes out_dir/<variant>.fmu: the crate's committed model description (FMI 3.0 with
+    `fmi3`; dated), each binary as binaries/<platform>/<modelIdentifier>.<ext> (`binaries`:
+    (platform, ext, bytes)), and the documentation page `doc(root)` (default: the FMI 2.0 page)."""
+    crate = crate_of(variant)
+    xml_path = (crate.md_dir / "fmi3" if fmi3 else crate.md_dir) / f"{variant}.xml"
     if not xml_path.is_file():
         sys.exit(f"error: {xml_path.relative_to(REPO)} is missing; generate it with\n"
-                 "  cargo run --release --bin gen_model_description -- modelDescription")
+                 f"  cargo run --release --bin {crate.generator}")
     xml = with_generation_date(xml_path.read_bytes(), date)
     root = ET.fromstring(xml)
     cs = root.find("CoSimulation")
@@ -153,19 +213,14 @@ def package(variant: str, out_dir: Path, binaries: list[tuple[str, str, bytes]],
 
 
 def main() -> None:
-    variants = sys.argv[1:] or VARIANTS
-    unknown = sorted(set(variants) - set(VARIANTS))
-    if unknown:
-        sys.exit(f"error: unknown variant(s) {', '.join(unknown)}; known: {', '.join(VARIANTS)}")
-    if not LIBRARY.is_file():
-        sys.exit(f"error: {LIBRARY.relative_to(REPO)} is missing; run cargo build --release")
     out_dir = REPO / "dist"
     out_dir.mkdir(exist_ok=True)
-    binary = stripped_library(LIBRARY, out_dir / "debug")
     date = generation_date()
-    for v in variants:
-        fmu = package(v, out_dir, [("linux64", "so", binary)], date)
-        print(f"{str(fmu.relative_to(REPO)):<36} {fmu.stat().st_size:>12,d} bytes")
+    for crate, models in selected(sys.argv[1:]):
+        binary = stripped_library(crate.library, out_dir / "debug")
+        for m in models:
+            fmu = package(m, out_dir, [("linux64", "so", binary)], date)
+            print(f"{str(fmu.relative_to(REPO)):<36} {fmu.stat().st_size:>12,d} bytes")
 
 
 if __name__ == "__main__":

@@ -1,14 +1,15 @@
 #!/usr/bin/env python3
 """Checks of the release FMUs in dist/release/ (scripts/release --check).
 
-For every variant's FMU, on the binaries it actually ships:
+For every model's FMU (the five connector variants and the Body), on the binaries it actually
+ships:
 - every binary exports exactly the 34 FMI 2.0 functions of fmi2Functions.h and the 75 FMI 3.0
   functions of fmi3Functions.h, and nothing else;
 - linux64: the highest GLIBC symbol version needed is <= 2.17;
 - win64: imports only Windows system DLLs; a scene run under wine (test driver
   tests/release/fmi2_driver.c built by MinGW) gives the outputs of the same driver on the linux64
   binary: bit-equal, or within 1e-15 relative to the output's magnitude over the scene (the two C
-  runtimes' libm may round differently);
+  runtimes' libm may round differently). The Body runs two scenes, one per model;
 - darwin64: a universal binary with exactly x86_64 and arm64, minimum macOS 10.12 / 11.0,
   install name @rpath/..., only system dylibs, and on arm64 a valid ad-hoc code signature (every
   page hash recomputed). It cannot be run here.
@@ -16,7 +17,7 @@ For every variant's FMU, on the binaries it actually ships:
   x86_64-windows byte-identical to linux64 and win64, x86_64-darwin and aarch64-darwin
   byte-identical to the slices of the universal darwin64 binary (so every check above holds for
   them too).
-Usage: release_check.py <work dir> [Variant ...]
+Usage: release_check.py <work dir> [Model ...]
 The work dir must hold fmi2_driver (native), fmi2_driver.exe and bcryptprimitives.dll (test shim).
 """
 import hashlib
@@ -35,7 +36,7 @@ import numpy as np
 
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "scripts"))
-from package import VARIANTS  # noqa: E402
+from package import MODELS  # noqa: E402
 
 # FMI 2.0 fmi2Functions.h: the 25 common functions and the 9 Co-Simulation functions.
 FMI2_FUNCTIONS = frozenset("""
@@ -284,10 +285,10 @@ def parameters(names: set[str]) -> dict[str, float]:
     return p
 
 
-def real_variables(md: ET.Element) -> dict[str, tuple[int, str]]:
-    """name -> (value reference, causality) of every Real variable."""
+def real_variables(md: ET.Element, ty: str = "Real") -> dict[str, tuple[int, str]]:
+    """name -> (value reference, causality) of every variable of type `ty`."""
     return {sv.get("name"): (int(sv.get("valueReference")), sv.get("causality"))
-            for sv in md.iter("ScalarVariable") if sv.find("Real") is not None}
+            for sv in md.iter("ScalarVariable") if sv.find(ty) is not None}
 
 
 def output_names(md: ET.Element) -> list[str]:
@@ -315,15 +316,55 @@ def scene_script(md: ET.Element) -> str:
     return "\n".join(lines) + "\n"
 
 
+def body_scene_script(md: ET.Element, model: int) -> str:
+    """The Body under gravity and a force and moment varying with time, 400 steps of 1 ms.
+    Model 0: a spring along x, a prescribed y, a free z and a free rotation about z (cos, sin,
+    atan2, sqrt of the exact updates); model 1: a tumbling rigid body (RK4 in substeps)."""
+    real, ints = real_variables(md), real_variables(md, "Integer")
+    q0 = axis_angle([0, 0, 1], 0.3) if model == 0 else qmul(axis_angle([0, 0, 1], 0.3), axis_angle([1, 0, 0], 0.7))
+    params = {"mass": 2.0, "inertia[1]": 0.4, "inertia[2]": 1.1, "inertia[3]": 2.3, "gravity[1]": 0.3,
+              "gravity[3]": -9.81, "start.r[1]": 0.05, "start.v[2]": 0.7, "start.w[3]": 2.0,
+              **dict(zip(["start.q.w", "start.q.x", "start.q.y", "start.q.z"], q0))}
+    if model == 0:
+        params["spring.k[1]"] = 40.0
+        integers = {"model": 0, "dof.r[2]": 2, "dof.w[3]": 1}
+    else:
+        params.update({"start.w[1]": 3.0, "start.w[2]": -2.0, "rigid.maxTurn": 0.05})
+        integers = {"model": 1}
+    outputs = [real[n][0] for n in output_names(md)]
+    get = f"G {len(outputs)} " + " ".join(map(str, outputs))
+    lines = [f"I {md.get('guid')}", "E"]
+    lines += [f"N {ints[n][0]} {x}" for n, x in integers.items()]
+    lines += [f"S {real[n][0]} {bits(x)}" for n, x in params.items()]
+    lines += ["X", get]
+    for k in range(STEPS):
+        t = k * DT
+        load = {"f[1]": math.sin(3 * t), "f[2]": 0.5 * math.cos(2 * t), "f[3]": 1.0,
+                "m[1]": 0.2 * math.sin(5 * t), "m[2]": -0.1, "m[3]": 0.3 * math.cos(t)}
+        lines += [f"S {real[n][0]} {bits(x)}" for n, x in load.items()]
+        lines += [f"D {bits(t)} {bits(DT)}", get]
+    lines.append("T")
+    return "\n".join(lines) + "\n"
+
+
+def scenes(model: str, md: ET.Element) -> list[tuple[str, str]]:
+    """(label, driver script) of each scene a model's FMU runs under wine."""
+    if model == "Body":
+        return [("Body-axes", body_scene_script(md, 0)), ("Body-rigid", body_scene_script(md, 1))]
+    return [(model, scene_script(md))]
+
+
 def read_bits(path: Path) -> np.ndarray:
     rows = [[struct.unpack(">d", bytes.fromhex(w))[0] for w in ln.split()] for ln in path.read_text().splitlines()]
     return np.array(rows)
 
 
-def compare_under_wine(variant: str, md: ET.Element, so: Path, dll: Path, work: Path) -> None:
+def compare_under_wine(variant: str, script: str, md: ET.Element, so: Path, dll: Path, work: Path) -> None:
+    """Runs the driver `script` (scene `variant`) on the linux64 and, under wine, the win64
+    binary and compares every output."""
     d = work / variant
     d.mkdir(exist_ok=True)
-    (d / "scene.txt").write_text(scene_script(md))
+    (d / "scene.txt").write_text(script)
     shutil.copy(dll, d / f"{variant}.dll")
     shutil.copy(work / "bcryptprimitives.dll", d / "bcryptprimitives.dll")  # test-only shim
     run([str(work / "fmi2_driver"), str(so), str(d / "scene.txt"), str(d / "linux.txt")])
@@ -410,7 +451,7 @@ def check_fmi3_twin(variant: str, bins: dict[str, Path]) -> None:
 
 def main() -> None:
     work = Path(sys.argv[1]).resolve()
-    variants = sys.argv[2:] or VARIANTS
+    variants = sys.argv[2:] or MODELS
     for v in variants:
         fmu = REPO / "dist" / "release" / f"{v}.fmu"
         print(f"== {fmu.relative_to(REPO)}")
@@ -427,7 +468,8 @@ def main() -> None:
         check_linux(bins["linux64"])
         check_windows_static(bins["win64"])
         check_macos(bins["darwin64"])
-        compare_under_wine(v, md, bins["linux64"], bins["win64"], work)
+        for label, script in scenes(v, md):
+            compare_under_wine(label, script, md, bins["linux64"], bins["win64"], work)
         check_fmi3_twin(v, bins)
     if failures:
         print(f"release check: {len(failures)} failure(s)")

@@ -10,6 +10,7 @@
  * C runtimes of the two platforms:
  *   I <guid>              fmi2Instantiate (Co-Simulation) + fmi2SetupExperiment(t0 = 0)
  *   S <vr> <bits>         fmi2SetReal of one value
+ *   N <vr> <integer>      fmi2SetInteger of one value (decimal)
  *   E / X                 fmi2EnterInitializationMode / fmi2ExitInitializationMode
  *   D <t bits> <h bits>   fmi2DoStep(t, h, fmi2True)
  *   G <n> <vr>...         fmi2GetReal of n values, written to the output as one line of bits
@@ -54,6 +55,7 @@ typedef fmi2Status (*Comp_t)(fmi2Component);
 typedef void (*Free_t)(fmi2Component);
 typedef fmi2Status (*Real_t)(fmi2Component, const fmi2ValueReference *, size_t, fmi2Real *);
 typedef fmi2Status (*SetReal_t)(fmi2Component, const fmi2ValueReference *, size_t, const fmi2Real *);
+typedef fmi2Status (*SetInteger_t)(fmi2Component, const fmi2ValueReference *, size_t, const int *);
 typedef fmi2Status (*DoStep_t)(fmi2Component, fmi2Real, fmi2Real, fmi2Boolean);
 
 static void logger(void *env, const char *name, fmi2Status status, const char *category,
@@ -105,6 +107,7 @@ int main(int argc, char **argv) {
     Free_t freeinst = (Free_t)sym(lib, "fmi2FreeInstance");
     Real_t getreal = (Real_t)sym(lib, "fmi2GetReal");
     SetReal_t setreal = (SetReal_t)sym(lib, "fmi2SetReal");
+    SetInteger_t setinteger = (SetInteger_t)sym(lib, "fmi2SetInteger");
     DoStep_t dostep = (DoStep_t)sym(lib, "fmi2DoStep");
 
     FILE *in = fopen(argv[2], "r");
@@ -138,6 +141,12 @@ int main(int argc, char **argv) {
             fmi2ValueReference vr = (fmi2ValueReference)strtoul(strtok(NULL, " \r\n"), NULL, 10);
             fmi2Real v = bits_to_real(strtok(NULL, " \r\n"));
             check(setreal(c, &vr, 1, &v), "fmi2SetReal", line);
+            break;
+        }
+        case 'N': {
+            fmi2ValueReference vr = (fmi2ValueReference)strtoul(strtok(NULL, " \r\n"), NULL, 10);
+            int v = (int)strtol(strtok(NULL, " \r\n"), NULL, 10);
+            check(setinteger(c, &vr, 1, &v), "fmi2SetInteger", line);
             break;
         }
         case 'E': check(enter(c), "fmi2EnterInitializationMode", line); break;
