@@ -541,6 +541,51 @@ class BushingEnergy(BushingFreq):
         return {"E0": float(E[0]), "drift": drift, "error": drift}
 
 
+class BushingPendulum(BushingFreq):
+    """A rigid body hanging under gravity on a Bushing from a fixed node a: its centre of mass
+    (node b) 0.2 m below node a, the Bushing's springs at their reference (the initial geometry),
+    set moving by an initial spin (2, 1, 0.5) rad/s; it sags under its weight and swings and
+    turns on the Bushing's translational (400 N/m) and rotational springs, no damping.
+    Reference: the energy E = kinetic + gravity's potential −m g·(r − r0) (master) +
+    energy.stored (FMU) is conserved: E0 is the spin's kinetic energy. error = max |E − E0|/E0. The scene an SSP system of the
+    connector and the Body FMU reproduces in third-party masters (docs/ssp.md)."""
+
+    name, title = "bushing_pendulum", "§6 bushing pendulum under gravity (Bushing)"
+    gravity = (0.0, 0.0, -G)
+    hang = 0.2                          # m: node b below node a
+    spin = (2.0, 1.0, 0.5)              # rad/s, W
+    record = ("energy.stored",)
+    error_label = "energy (kinetic + potential + energy.stored): max |E − E0| / E0"
+    tol = 1e-10
+    sweep = (1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4)
+
+    @property
+    def stiffness(self):
+        return [400.0, 400.0, 400.0, 1.0, 2.0, 3.0]
+
+    def body(self):
+        return RigidBody(self.m, self.J, gravity=self.gravity)
+
+    def init_inputs(self):
+        return {**node_inputs("a"), **node_inputs("b", r=(0.0, 0.0, -self.hang), w=self.spin)}
+
+    def initial_state(self):
+        p = np.concatenate(([0.0, 0.0, -self.hang], [1.0, 0.0, 0.0, 0.0]))
+        return p, np.concatenate((np.zeros(3), self.spin))
+
+    def reference(self):
+        return {"drift": 0.0}
+
+    def measure(self, res):
+        body = self.body()
+        # gravity's potential from the start position: E0 is the energy the spin put in
+        p0 = body.potential(res.p[0])
+        E = (np.array([body.kinetic(p, u) + body.potential(p) - p0 for p, u in zip(res.p, res.u)])
+             + res.extra[:, 0])
+        drift = float(np.max(np.abs(E - E[0])) / E[0]) if res.failed is None else np.nan
+        return {"E0": float(E[0]), "drift": drift, "error": drift}
+
+
 # =================================================================================================
 # §7 stability: mass on a connector spring-damper (RadialThrust, axial component l)
 # =================================================================================================
@@ -687,4 +732,4 @@ def largest_stable(stable, h_lo=1e-3, h_hi=1e3, n=61, rel=1e-4):
 
 
 SCENES = {s.name: s for s in (Belt(), Puck(coupling=0), Puck(coupling=1), Bounce(),
-                              BushingFreq(), BushingEnergy())}
+                              BushingFreq(), BushingEnergy(), BushingPendulum())}
