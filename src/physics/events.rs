@@ -198,7 +198,10 @@ fn values_on_body(ct: ConnectionType, p: &Params, st: &State, o: &Outputs, v: &m
         }
     }
     let normals = (o.friction.cnf, o.friction.cnm1);
-    for (e, x) in slip_stick(f, fs, pos, rate, normals).into_iter().enumerate() {
+    for (e, x) in slip_stick(f, fs, pos, rate, normals)
+        .into_iter()
+        .enumerate()
+    {
         if let Some(x) = x {
             v.put(SLIP_STICK + e, x);
         }
@@ -279,7 +282,10 @@ fn slip_stick(
     } else {
         [f.c_stick > 0.0, f.c_stick_r1 > 0.0]
     };
-    let slipping = [fs.status == Status::Slip, fs.status_r1 == Status::Slip && !coupled];
+    let slipping = [
+        fs.status == Status::Slip,
+        fs.status_r1 == Status::Slip && !coupled,
+    ];
     if !(slipping[0] || slipping[1]) {
         return [None; 2];
     }
@@ -340,7 +346,10 @@ pub fn values_after(
     if fb.status == Status::Slip || fb.status_r1 == Status::Slip {
         let (pos, rate) = ([o.cp[1], o.cp[2], o.cp[3]], [o.cv[1], o.cv[2], o.cv[3]]);
         let normals = (o.friction.cnf, o.friction.cnm1);
-        for (e, x) in slip_stick(&p.friction, fb, pos, rate, normals).into_iter().enumerate() {
+        for (e, x) in slip_stick(&p.friction, fb, pos, rate, normals)
+            .into_iter()
+            .enumerate()
+        {
             if let Some(x) = x {
                 v.put(SLIP_STICK + e, x);
             }
