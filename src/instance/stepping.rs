@@ -111,6 +111,7 @@ impl ModelInstance {
             // an event within the location tolerance of the start is met there, not stopped
             // at; and the time must move on
             min_tau: (2.0 * Real::EPSILON * t.abs()).max(EVENT_TOL * h),
+            t0: t,
         });
         // the outputs at t + h are evaluated into the cache's spare buffer: it becomes the
         // cache when the step is accepted, and a failed step leaves the cache as it was
