@@ -34,7 +34,7 @@ from cosim.master import METHODS  # noqa: E402
 
 # the event-located methods whose one-step map does not depend on the FMU's extrapolation history
 # (they integrate the body from trial evaluations and directional derivatives only)
-MAP_METHODS = list(METHODS) + ["linear_implicit_ev", "linear_exact_ev", "linear_path_ev"]
+MAP_METHODS = list(METHODS) + ["linear_path_ev", "implicit_path_ev", "linear_exact_ev"]
 from cosim.scenes import Oscillator, amplification, bound_closed_form, spectral_radius  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
