@@ -1,4 +1,7 @@
 //! fmi2DoStep: advance from t to t + h along the input extrapolation; the step's status.
+//!
+//! Uses the instance (mod.rs), the model's access rules, snapshot and table, and the physics' step
+//! and events; nothing below the instance uses it.
 
 use super::ModelInstance;
 use super::{singular_text, Call, FmiVersion};
