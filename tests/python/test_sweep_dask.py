@@ -131,9 +131,9 @@ def test_workers_have_no_checkout(cluster, tasks):
     sha = sweep.fmu_ref("RadialThrust")["sha256"]
 
     def where(dask_worker):
-        m = sys.modules["cosim.master"]
+        m, c = sys.modules["cosim.master"], sys.modules["cosim.connectors"]
         d = Path(dask_worker.local_directory) / "connector-fmus" / sha
-        return m.__file__, str(m.DIST), (d / ".installed").exists(), (d / "unzipped").is_dir()
+        return m.__file__, str(c.DIST), (d / ".installed").exists(), (d / "unzipped").is_dir()
 
     with distributed.Client(cluster.address) as client:
         info = client.run(where)
