@@ -703,6 +703,8 @@ def amplification(method, h, zeta, theta=1.0):
             x1, v1 = np.linalg.solve(A, [x + h * v + h * h / 3 * Q0, v + h / 2 * Q0])
             cols.append((x1, v1))
             continue
+        else:
+            raise ValueError(f"amplification: no closed form for the method {method!r}")
         cols.append((x + h * v + h * h / 6 * (2 * Q0 + Q1), v + h / 2 * (Q0 + Q1)))
     return np.array(cols).T
 

@@ -114,7 +114,10 @@ def figure(stab: data.Stability, labels=None, styles=None, bound=None, rho=None,
                     color=look.color, zorder=3)
         if rho is not None:
             hh = np.geomspace(x.min(), x.max(), 160)
-            cr = np.array([rho(method, h) for h in hh])
+            try:
+                cr = np.array([rho(method, h) for h in hh])
+            except ValueError:          # a method without a closed form: its markers only
+                continue
         else:
             hh, cr = x, np.array([r["closed_form"] for r in rs])
         bx.plot(hh, np.where(np.isfinite(cr), cr, np.nan), color=look.color, lw=1.1, ls=look.ls, zorder=2)

@@ -197,10 +197,14 @@ def figure(info: data.SceneInfo, runs, orders=None, styles=None):
     for t in lg.get_texts():
         if t.get_text() in heads:
             t.set_fontweight("bold")
+    # the title is centred over the panels and wrapped to their width, so that it never reaches
+    # into the legend's column however tall the legend grows
+    panels = PANEL[0] * (1.1 + len(columns))
+    error = textwrap.shorten(info.error_label.replace("\n", " "), 120, placeholder=" …")
     fig.suptitle(f"{info.title or info.name}: accuracy against cost"
-                 + (f", t_end = {info.t_end:g} s" if info.t_end else "") + "\nerror: "
-                 + textwrap.shorten(info.error_label.replace("\n", " "), 120, placeholder=" …"),
-                 fontsize=10.5)
+                 + (f", t_end = {info.t_end:g} s" if info.t_end else "") + "\n"
+                 + textwrap.fill("error: " + error, int(panels * 11)),
+                 x=0.5 * panels / fig.get_size_inches()[0], fontsize=10.5)
     if rng:
         notes.insert(0, f"order (legend): least-squares slope of log error against log H over the runs "
                         f"with a result, H = {fmt_h(rng[0])} – {fmt_h(rng[1])} (shaded); from wp_orders.csv")
