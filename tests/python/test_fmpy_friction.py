@@ -349,8 +349,9 @@ def test_friction_direction_follows_a_turning_path(make_slave):
 def test_status_stick_slip_stick(make_slave):
     """Rest, slide +y, stop, slide -y, stop: friction.status runs 1, 2, 1, 2, 1.
     mu_s = 0.5, mu_k = 0.3, d_c = 100 s/m (so at v = 0.01 m/s mu = 0.374): after a stop the
-    limit is back at mu_s F_NC, above the kinetic force, so the stop is a clean stick (and the
-    first slip step of each run breaks away at mu_s F_NC); on
+    limit is back at mu_s F_NC, above the kinetic force, so the stop is a clean stick (each slip
+    run breaks away at mu_s F_NC: the stick force before it stays below that limit, and the slip
+    force after it is mu at the slip rate, docs/physics.md "friction"); on
     reversal the stick spring unloads elastically (CSF2 falls by k_s per metre) until the force
     reaches the opposite limit.  Accumulated slip: constant in stick, growing in slip."""
     mus, muk, dc, h, v = 0.5, 0.3, 100.0, 1e-3, 0.01
@@ -367,13 +368,16 @@ def test_status_stick_slip_stick(make_slave):
     ds = np.diff(slip)
     assert np.all(ds[st[1:] == 1] == 0.0)
     assert np.all(ds[(st[1:] == 2) & (st[:-1] == 2)] > 0.0)
-    # breakaway at mu_s F_NC: the first slip step of each run (the committed status was stick,
-    # so mu = mu_s); then the kinetic force at rate v (both directions), 1e-9 relative
+    # breakaway at mu_s F_NC: the stick force never exceeds it, and the step before each slip run
+    # ends stuck below it; in the step that breaks away the force returns onto the limit at the
+    # slip rate v, so every slip step (both directions) reports mu(v) F_NC, 1e-9 relative
     mu_v = mu_of(mus, muk, dc, v)
     first = (st == 2) & (np.r_[1, st[:-1]] != 2)
     assert first.sum() == 2
-    assert np.allclose(r["CSFC"][first], mus * N, rtol=1e-9, atol=0)
-    assert np.allclose(r["CSFC"][(st == 2) & ~first], mu_v * N, rtol=1e-9, atol=0)
+    assert np.all(np.abs(r["CSFC"][st == 1]) <= mus * N * (1 + 1e-12))
+    before = np.flatnonzero(first) - 1
+    assert np.all(r["CSFC"][before] > mu_v * N) and np.all(r["CSFC"][before] <= mus * N * (1 + 1e-12))
+    assert np.allclose(r["CSFC"][st == 2], mu_v * N, rtol=1e-9, atol=0)
     # elastic unloading on reversal: from the held force, k_s per metre travelled back
     k_rev = 310 + 50  # first step of the reversal (index of its step end)
     f_hold = r["CSF2"][k_rev - 1]
