@@ -3,8 +3,8 @@ archive (dist/ssp/<scene>.ssp, from ./scripts/run) in a third-party master, writ
 (time and the body's state outputs, plus the outputs the scene monitors) to
 DIR/<scene>_<tool>_<H>.csv, and print the scene's error against its reference (the scene's own
 `measure`, scripts/cosim/scenes.py) and the CPU time per simulated second. The archive is checked
-against its FMUs and its scene first (archive.check): a broken connection or a wrong or missing
-parameter stops the run with a message. --compare also runs our master's `jacobi` on the tool's
+against its FMUs and its scene first (tools.run → archive.check): a broken connection or a wrong
+or missing parameter stops the run with a message. --compare also runs our master's `jacobi` on the tool's
 time grid and on its own and prints the largest relative differences.
 
 Uses argparse, numpy and the package's modules (systems, archive, tools, compare).
@@ -61,7 +61,6 @@ def main(argv=None):
     scene = system.scene
     path = args.ssp or archive_path(args.scene)
     try:
-        archive.check(path, system)
         res = tools.run(args.tool, path, system, args.step)
     except (archive.ArchiveError, tools.ToolError, ValueError) as e:
         print(f"error: {e}", file=sys.stderr)

@@ -16,7 +16,7 @@ Outputs the scene monitors (scene.record, e.g. energy.stored) are evaluated afte
 sampled body states by an fmpy connector instance, as our master evaluates them (the tools'
 own connector output lags one step behind: it is computed at the held inputs).
 
-Uses libcosimpy, ecospy, numpy, cosim (master, connectors) and systems.py.
+Uses libcosimpy, ecospy, numpy, cosim (master, connectors), systems.py and archive.py (the check).
 """
 from __future__ import annotations
 
@@ -27,7 +27,7 @@ import numpy as np
 from cosim import master
 from cosim.connectors import Connector
 
-from . import systems
+from . import archive, systems
 
 TOOLS = ("libcosim", "ecos")
 
@@ -132,13 +132,17 @@ def _ecos(path, system, H, n, names, native):
 RUNNERS = {"libcosim": _libcosim, "ecos": _ecos}
 
 
-def run(tool, path, system, H, t_end=None, native=False):
+def run(tool, path, system, H, t_end=None, native=False, check=True):
     """Run archive `path` of `system` in `tool` with steps of H up to t_end (default the
     scene's): a master.Result (t, p, u, extra = the monitored outputs, cpu = CPU seconds of the
     stepping loop) and, as `samples`, the raw Body outputs {name: array}. With `native` the
-    tool steps all at once and only `cpu` (and `failed`) mean anything."""
+    tool steps all at once and only `cpu` (and `failed`) mean anything. The archive is checked
+    against its FMUs and the scene first (archive.check, ArchiveError) unless `check` is off:
+    both tools only warn about a parameter they cannot apply and run on."""
     if tool not in RUNNERS:
         raise ValueError(f"unknown tool {tool!r}; there are: {', '.join(TOOLS)}")
+    if check:
+        archive.check(path, system)
     scene = system.scene
     t_end = scene.t_end if t_end is None else t_end
     n = steps(H, t_end)
