@@ -9,8 +9,9 @@ beside this project's own master (scripts/cosim/master.py), in one run on one ma
     to our jacobi on the tool's time grid and on its own (t = k H) (compare.py);
 (c) CPU: per scene at one H, the CPU seconds per simulated second of each tool (sampling the
     body from Python after every step, and stepping natively with no samples) and of our
-    master's methods, measured round-robin, --repeat times, in this one process; the table gives
-    medians as ratios to our jacobi (and its own figure, for scale).
+    master's methods, measured round-robin, --repeat times, in this one process (each sample
+    the CPU of back-to-back runs adding up to MIN_CPU); the table gives medians as ratios to our
+    jacobi (and its own figure, for scale).
 
 Writes out/ssp_errors.csv, out/ssp_cpu.csv and prints the three tables as markdown.
 Usage (from the repository root, after ./scripts/run):
@@ -35,6 +36,7 @@ from sspkit import cli, compare, systems, tools  # noqa: E402
 
 METHODS = ("jacobi", "zoh", "linear_path_ev", "implicit_path_ev", "linear_exact_ev")
 CPU_METHODS = ("jacobi", "zoh", "linear_path_ev")
+MIN_CPU = 0.2              # s of stepping CPU per CPU sample
 TOOL_RUNS = {"libcosim": ("libcosim", False), "libcosim native": ("libcosim", True),
              "ecos": ("ecos", False), "ecos native": ("ecos", True)}
 
@@ -78,6 +80,16 @@ def errors(names, steps):
     return rows
 
 
+def per_simulated_second(run, t_end):
+    """CPU seconds of the stepping loop per simulated second, over as many back-to-back runs as
+    make MIN_CPU of it (a short scene's 100 steps take a few ms: one run alone is noise)."""
+    cpu = simulated = 0.0
+    while cpu < MIN_CPU:
+        cpu += run().cpu
+        simulated += t_end
+    return cpu / simulated
+
+
 def cpu(names, H, repeat):
     """{(scene, runner): [CPU s per simulated s, ...]}, the runners taken in turn each round."""
     out = {}
@@ -85,12 +97,11 @@ def cpu(names, H, repeat):
         for name in names:
             s = systems.system(name)
             scene, path = s.scene, cli.archive_path(name)
-            for method in CPU_METHODS:
-                res = master.simulate(scene, method, H)
-                out.setdefault((name, method), []).append(res.cpu / scene.t_end)
-            for label, (tool, native) in TOOL_RUNS.items():
-                res = tools.run(tool, path, s, H, native=native)
-                out.setdefault((name, label), []).append(res.cpu / scene.t_end)
+            runs = {m: (lambda m=m: master.simulate(scene, m, H)) for m in CPU_METHODS}
+            runs.update({label: (lambda t=tool, nat=native: tools.run(t, path, s, H, native=nat))
+                         for label, (tool, native) in TOOL_RUNS.items()})
+            for label, run in runs.items():
+                out.setdefault((name, label), []).append(per_simulated_second(run, scene.t_end))
         print(f"  CPU round {r + 1}/{repeat} done", file=sys.stderr)
     return out
 

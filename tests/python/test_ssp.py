@@ -18,6 +18,7 @@ third-party masters, libcosim (libcosimpy) and Ecos (ecospy), no mocks:
 from __future__ import annotations
 
 import functools
+import re
 import subprocess
 import sys
 import zipfile
@@ -179,3 +180,22 @@ def test_cli_writes_the_csv_and_prints_error_and_cpu(tmp_path, capsys):
     lines = (tmp_path / "bounce_ecos_0.001.csv").read_text().splitlines()
     assert lines[0] == "time,mass.r[3],mass.v[3]"
     assert len(lines) == 1 + 101
+
+
+# --- docs/ssp.md's snippets, as written ---------------------------------------------------------
+def test_docs_snippets_run_as_written(tmp_path):
+    """The ```python blocks between the ssp-snippets markers of docs/ssp.md, joined into one
+    script and run in a fresh directory holding `dist` as a link to the repository's (a child
+    process: libcosim may end its process on an error): libcosim and Ecos print the same bounce."""
+    text = (REPO / "docs" / "ssp.md").read_text()
+    begin, end = text.index("<!-- ssp-snippets:begin -->"), text.index("<!-- ssp-snippets:end -->")
+    blocks = re.findall(r"^```python\n(.*?)^```$", text[begin:end], re.S | re.M)
+    assert len(blocks) == 2
+    (tmp_path / "snippets.py").write_text("\n".join(blocks))
+    (tmp_path / "dist").symlink_to(REPO / "dist")
+    out = subprocess.run([sys.executable, "snippets.py"], cwd=tmp_path, capture_output=True,
+                         text=True, timeout=120)
+    assert out.returncode == 0, out.stderr[-2000:]
+    lines = [ln for ln in out.stdout.splitlines() if ln.startswith(("libcosim:", "Ecos:", "largest"))]
+    assert lines[0].split(":", 1)[1].strip() == lines[1].split(":", 1)[1].strip()
+    assert float(lines[2].split(":")[1]) <= 1e-12
