@@ -1,4 +1,6 @@
 //! Errors of the instance layer and their one mapping to an FMI status level.
+//!
+//! Uses std only; every layer above physics uses it.
 
 use std::fmt;
 

@@ -637,3 +637,12 @@ fn the_length_check_sees_a_long_file() {
         vec![(PathBuf::from("scripts/long.py"), MAX_LINES + 1)]
     );
 }
+
+/// The README stays a front page: the quick start, the variants and where to read on; measured
+/// tables live in docs/.
+#[test]
+fn the_readme_stays_short() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let n = std::fs::read_to_string(root.join("README.md")).map_or(0, |t| t.lines().count());
+    assert!(n > 50 && n <= 300, "README.md has {n} lines (at most 300)");
+}

@@ -207,10 +207,19 @@ fn check(variant: &str, b: &Behaviour, r: &Read) {
             assert_eq!(r.int("friction.status"), Some(0), "{ctx}");
         }
         if param("friction.stickDamping").is_some() && cnf > 0.0 {
-            // the damper force at the initial rate, c·|v|, where it is within the limit
+            // the damper force at the initial rate, c·|v|, where it is within the limit (μ_s);
+            // beyond it the contact slips from the start at the speed v, on the limit with μ
+            // at that speed (μ_k + (μ_s − μ_k) exp(−d_c v) with a decay)
             let c = param("friction.stickDamping").unwrap_or(0.0);
             let v = (r.real("CV2").unwrap_or(0.0)).hypot(r.real("CV3").unwrap_or(0.0));
-            let expect = (c * v).min(mu * cnf);
+            let mu_k = param("friction.muKinetic").unwrap_or(mu);
+            let decay = param("friction.decay").unwrap_or(0.0);
+            let mu_v = if decay > 0.0 {
+                mu_k + (mu - mu_k) * (-decay * v).exp()
+            } else {
+                mu
+            };
+            let expect = if c * v > mu * cnf { mu_v * cnf } else { c * v };
             if !coupled {
                 assert!(
                     (csfc - expect).abs() <= 1e-12 * expect,

@@ -71,6 +71,7 @@ fn step_from(
             exact: exact_start,
             stop_at_first: stop,
             min_tau: EVENT_TOL * h,
+            t0: 0.0,
         }),
         Ends {
             outputs: &mut o,

@@ -37,6 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
+from . import connectors as _connectors
 from . import master as _master
 from .master import ALL_METHODS, METHODS, simulate, split_method
 from .scenes import SCENES, OneStepMap, largest_stable, spectral_radius
@@ -123,7 +124,7 @@ def coerce_setting(scene_name, key, value):
 # FMU files: client side (read, hash) and worker side (install once, find)
 # =================================================================================================
 def fmu_file(variant) -> Path:
-    path = Path(_master.DIST) / f"{variant}.fmu"
+    path = Path(_connectors.DIST) / f"{variant}.fmu"
     if not path.is_file():
         raise SystemExit(f"error: {path} is missing; run ./scripts/run first")
     return path
@@ -224,12 +225,12 @@ def _installed(ref):
 
 @contextlib.contextmanager
 def _fmu_from(ref):
-    """Point master.py's model-description lookup at this FMU's directory for one task."""
+    """Point the connectors' FMU lookup (connectors.DIST, read by model_description) at this FMU's
+    directory for one task."""
     d, unzipdir = _installed(ref)
     with _DIST_LOCK:
-        if str(_master.DIST) != d:
-            _master.DIST = Path(d)
-            getattr(_master, "_MD", {}).pop(ref["variant"], None)
+        if str(_connectors.DIST) != d:
+            _connectors.DIST = Path(d)
         yield unzipdir
 
 

@@ -1,6 +1,8 @@
 //! Writes `modelDescription/<Variant>.xml` (FMI 2.0) and `modelDescription/fmi3/<Variant>.xml`
 //! (FMI 3.0) for every variant from the variable tables.
 //! Usage: `cargo run --bin gen_model_description -- [folder]` (default `modelDescription`).
+//!
+//! Uses the library's model descriptions and variable table; writes files, nothing uses it.
 
 use connector_fmu::model_description::fmi2::model_description;
 use connector_fmu::model_description::fmi3::model_description as model_description_fmi3;

@@ -1,5 +1,8 @@
 //! What every exported function shares: the panic wrapper, the instance lookup with its state
 //! check, the one mapping of results to `fmi2Status`, and the pointer-to-slice conversions.
+//!
+//! Uses the FMI 2.0 C types and logger, the instance, the model's snapshot and GUIDs, and the error
+//! mapping; `exports` (and fmi3's boundary) use it.
 
 use super::logger::CallbackLogger;
 use super::types::{

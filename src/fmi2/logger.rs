@@ -1,4 +1,6 @@
 //! The instance's `LogSink` over the importer's `fmi2CallbackLogger`.
+//!
+//! Uses the FMI 2.0 C types, the error levels and the instance's `LogSink`; the boundaries use it.
 
 use super::types::{fmi2CallbackLogger, fmi2ComponentEnvironment, fmi2Status};
 use crate::error::{Category, Level};

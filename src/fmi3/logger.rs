@@ -1,4 +1,7 @@
 //! The instance's `LogSink` over the importer's `fmi3LogMessageCallback`.
+//!
+//! Uses the FMI 3.0 C types, fmi2's message formatting, the error levels and the instance's
+//! `LogSink`; the FMI 3.0 boundary uses it.
 
 use super::types::{fmi3InstanceEnvironment, fmi3LogMessageCallback, fmi3Status};
 use crate::error::{Category, Level};

@@ -1,4 +1,6 @@
 //! The outputs at the current inputs and committed state, double-buffered.
+//!
+//! Uses the physics' outputs only; the instance uses it.
 
 use crate::physics::connector::Outputs;
 

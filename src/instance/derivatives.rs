@@ -1,4 +1,7 @@
 //! Input derivatives (for the next step's extrapolation) and directional derivatives.
+//!
+//! Uses the instance (mod.rs), its memo, the model's access rules, slots and table, and the
+//! physics; nothing below the instance uses it.
 
 use super::memo::copy_runs;
 use super::{Call, ModelInstance};

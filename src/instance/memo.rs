@@ -9,6 +9,8 @@
 //!
 //! Also what a directional derivative's point fixes for every direction (`PointMemo`): the
 //! frames of the orientation inputs and the centred triad, or REVOLUTE's rotations.
+//!
+//! Uses the physics' kinematics and math only; the instance's reads and derivatives use it.
 
 use crate::physics::kinematics::{
     centred_with, frame_of_raw, revolute, Centred, Revolute, Singular, TriadSource, TriadTrig,

@@ -1,4 +1,7 @@
 //! fmi2DoStep: advance from t to t + h along the input extrapolation; the step's status.
+//!
+//! Uses the instance (mod.rs), the model's access rules, snapshot and table, and the physics' step
+//! and events; nothing below the instance uses it.
 
 use super::ModelInstance;
 use super::{singular_text, Call, FmiVersion};
@@ -111,6 +114,7 @@ impl ModelInstance {
             // an event within the location tolerance of the start is met there, not stopped
             // at; and the time must move on
             min_tau: (2.0 * Real::EPSILON * t.abs()).max(EVENT_TOL * h),
+            t0: t,
         });
         // the outputs at t + h are evaluated into the cache's spare buffer: it becomes the
         // cache when the step is accepted, and a failed step leaves the cache as it was

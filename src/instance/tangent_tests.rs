@@ -13,6 +13,8 @@
 //! ≈ 1e-15·|y|/ε, which is allowed on top. Each entry must agree to 1e-10 of the largest entry
 //! of its output's row (the row's scale in the output's
 //! unit: a position's derivative is not measured against a force's).
+//!
+//! Uses the instance (mod.rs), the model's access rules and table, and the physics (tests only).
 
 use super::{LogSink, ModelInstance};
 use crate::error::{Category, Level};

@@ -1,5 +1,8 @@
 //! Get and set through the variable table: every value reference and type is checked, and a
 //! set call is all or nothing (a rejected value leaves the instance as it was).
+//!
+//! Uses the instance (mod.rs), its memo, the model's access rules, slots, snapshot and table, and
+//! the physics; nothing below the instance uses it.
 
 use super::memo::copy_runs;
 use super::{Call, FmiVersion, ModelInstance};

@@ -1,5 +1,7 @@
 //! What fmi2SetReal / fmi2GetReal do with each value reference, as compact per-variant tables
 //! for the per-step calls.
+//!
+//! Uses the table (`variables`) and the access rules (`access`); the instance uses it.
 
 use super::access::{continuous_index, Ty};
 use super::variables::{Causality, Field, Table, Variability, NODE_INPUTS};

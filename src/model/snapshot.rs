@@ -1,6 +1,9 @@
 //! The instance's data: everything that influences the future (`fmi2GetFMUstate` copies it).
 //! Plain data over the variable table's types (`variables`); how a snapshot starts from the
 //! table's start values is an access rule (`access::initial_snapshot`).
+//!
+//! Uses the table's types (`variables`) and the physics' state; `access`, `state_bytes` and the
+//! instance use it.
 
 use super::variables::{NodeInputs, PoseTwist, Variant, POSE_TWIST};
 use crate::physics::connector::{Params, State};

@@ -10,6 +10,9 @@
 //! FNV-1a 64 checksum of everything before it. Parameters and inputs
 //! are written back through the same checks as fmi2Set*, so a decoded state is one that the
 //! setters could have produced.
+//!
+//! Uses the table, the data (`snapshot`), the access rules and the physics' state types; the
+//! instance uses it.
 
 use super::access::{read_int_param, read_real_param, write_int, write_real};
 use super::snapshot::{EventRecord, LastEvent, Mode, Snapshot};

@@ -5,6 +5,9 @@
 //! Sign convention (Abaqus): a component force F_k is the force IN the connector, so a
 //! stretched spring of positive stiffness gives F_k = k·u_mat > 0; the node loads are
 //! −Σ F_k ∇c_k, i.e. the force vector f = Σ F_k e_k acts on node a as +f and on node b as −f.
+//!
+//! Uses the kinematics, the friction law and the math; the step, events, init and the instance use
+//! it.
 
 use super::friction::{self, Eval, FrictionOut, FrictionParams, FrictionState};
 use super::kinematics::{

@@ -1,4 +1,6 @@
 //! The state at the end of initialization.
+//!
+//! Uses the connector, the friction law, the kinematics and the math; the instance uses it.
 
 use super::connector::{evaluate_pose, Outputs, Params, State};
 use super::friction::Eval;

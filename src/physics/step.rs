@@ -230,6 +230,15 @@ pub fn advance(
     })
 }
 
+/// τ as the importer's clock has it: (t0 + τ) − t0, never before τ (the next time on the clock
+/// when rounding would put it before: the event's far end, where its function has crossed).
+#[inline]
+fn on_clock(t0: Real, tau: Real) -> Real {
+    let te = t0 + tau;
+    let te = if te - t0 < tau { te.next_up() } else { te };
+    te - t0
+}
+
 /// Event tracking over a step (`events`): the event functions' values at its start, and
 /// whether the step stops at the first event.
 #[derive(Clone, Copy, Debug)]
@@ -246,6 +255,10 @@ pub struct Tracking<'a> {
     /// Events located within this time of the step's start are met at the start: neither
     /// reported nor stopped at (every early return moves the time on).
     pub min_tau: Real,
+    /// The step's start time: a located event's τ is the one the importer's clock gives,
+    /// (t0 + τ) − t0, so that a step ended early there and a step of length event.time − t0
+    /// (the FMI 2.0 master's rollback) walk the same path to the same bits.
+    pub t0: Real,
 }
 
 /// Where a step writes what it ends with: the caller's own buffers (the per-step path: the
@@ -408,7 +421,7 @@ pub fn advance_into(
                     if root < track.min_tau {
                         met_at_start |= 1 << i;
                     } else {
-                        first = first.min(root);
+                        first = first.min(on_clock(track.t0, root));
                     }
                 }
                 crossed &= !met_at_start;

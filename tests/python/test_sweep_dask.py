@@ -39,7 +39,8 @@ from cosim import sweep  # noqa: E402
 DASK = Path(sys.executable).parent / "dask"
 
 # 4 methods x 3 steps x 2 stop stiffnesses = 24 runs of the §5 bounce (RadialThrust)
-GRID = [("H", ["1e-4", "5e-5", "2e-5"]), ("stop.stiffness", ["1e4", "2e4"])]
+FOUR = ["zoh", "extrapolation", "linear_implicit", "rollback"]
+GRID = [("method", FOUR), ("H", ["1e-4", "5e-5", "2e-5"]), ("stop.stiffness", ["1e4", "2e4"])]
 SAME = ("status", "steps", "fmi_calls", "rollback_passes")
 
 
@@ -130,9 +131,9 @@ def test_workers_have_no_checkout(cluster, tasks):
     sha = sweep.fmu_ref("RadialThrust")["sha256"]
 
     def where(dask_worker):
-        m = sys.modules["cosim.master"]
+        m, c = sys.modules["cosim.master"], sys.modules["cosim.connectors"]
         d = Path(dask_worker.local_directory) / "connector-fmus" / sha
-        return m.__file__, str(m.DIST), (d / ".installed").exists(), (d / "unzipped").is_dir()
+        return m.__file__, str(c.DIST), (d / ".installed").exists(), (d / "unzipped").is_dir()
 
     with distributed.Client(cluster.address) as client:
         info = client.run(where)
@@ -217,7 +218,8 @@ def test_bad_parameter_is_an_error_row(cluster, tmp_path):
 
 def run_cli(cluster, out, *extra):
     cmd = [sys.executable, "-c", "import sys; from cosim.sweep import main; sys.exit(main(sys.argv[1:]))",
-           "bounce", "H=5e-5,2e-5", "stop.stiffness=1e4,2e4,3e4", "--scheduler", cluster.address,
+           "bounce", "method=" + ",".join(FOUR), "H=5e-5,2e-5", "stop.stiffness=1e4,2e4,3e4",
+           "--scheduler", cluster.address,
            "--out", str(out), "--quiet", *extra]
     env = {**os.environ, "PYTHONPATH": str(REPO / "scripts")}
     return subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)

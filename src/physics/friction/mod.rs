@@ -307,12 +307,13 @@ pub fn update<T: Scalar>(
         (true, _) => zero,
         (false, _) => committed,
     };
-    // A breakaway in this substep (stick or no normal force before it, slip after it, μ
-    // decaying with speed): the decision is taken at μ_s, and the force returns onto the limit
+    // A breakaway in this substep or at the start (stick or no normal force before it, slip
+    // after it, μ decaying with speed): the decision is taken at μ_s, and the force returns onto the limit
     // at the current slip speed, where a slip goes on from and where a read here takes μ from
     // (so that a step ending at the breakaway reports the right limit, as a read there does).
     let breakaway = |now: Status, before: Status, v: T| {
-        (stepping && p.decay > 0.0 && now == Status::Slip && before != Status::Slip).then_some(v)
+        ((stepping || start) && p.decay > 0.0 && now == Status::Slip && before != Status::Slip)
+            .then_some(v)
     };
 
     let (f, m) = if p.coupling == 1 {
