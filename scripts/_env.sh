@@ -22,6 +22,23 @@ ensure_venv() {
     fi
 }
 
+# Ecos (ecospy's C++ engine, libecosc.so) links against oneTBB's libtbb.so.12, which its wheel
+# does not carry: install Debian's libtbb12 when the dynamic linker does not know it.
+ensure_tbb() {
+    if /sbin/ldconfig -p 2>/dev/null | grep -q 'libtbb\.so\.12 '; then
+        return
+    fi
+    echo "==> installing libtbb12 (apt-get) for Ecos"
+    local sudo=()
+    [[ $(id -u) -eq 0 ]] || sudo=(sudo)
+    if ! command -v apt-get >/dev/null 2>&1; then
+        echo "error: Ecos needs libtbb.so.12 (oneTBB 2021); install it with your package manager" >&2
+        return 1
+    fi
+    "${sudo[@]}" apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -qq libtbb12 >/dev/null
+}
+
 build_release() {
     echo "==> cargo build --release"
     cargo build --release
@@ -31,11 +48,14 @@ package_fmus() {
     echo "==> packaging FMUs into dist/"
     "$PY" scripts/package.py
     "$PY" scripts/package_fmi3.py
+    echo "==> packaging the SSP systems into dist/ssp/"
+    "$PY" scripts/package_ssp.py
 }
 
-# Everything scripts/run installs: venv, release library, packaged FMUs.
+# Everything scripts/run installs: venv, libtbb12, release library, packaged FMUs and SSPs.
 setup_all() {
     ensure_venv
+    ensure_tbb
     build_release
     package_fmus
 }
