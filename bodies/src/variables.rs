@@ -2,7 +2,8 @@
 //! variability, type, start, unit, min/max, description and where its value lives. The model
 //! descriptions of both FMI versions, the start values, the setters' range checks and the
 //! GUID all come from here. Edit a row, then regenerate the committed XML with
-//! `cargo run --bin gen_body_model_description`. Uses nothing else of the crate.
+//! `cargo run --bin gen_body_model_description`. Uses nothing else of the crate (only
+//! `fmi_shared`'s value reference of FMI 3.0's `time`).
 
 use std::sync::OnceLock;
 
@@ -150,8 +151,9 @@ pub mod int {
     pub const N: usize = 7;
 }
 
-/// FMI 3.0's independent variable `time` (no row uses value reference 0).
-pub const TIME_VR: u32 = 0;
+/// FMI 3.0's independent variable `time` (no row uses value reference 0; the model description
+/// declares it as `fmi_shared` does).
+pub const TIME_VR: u32 = fmi_shared::model_description::fmi3::TIME_VR;
 
 /// `min` of a quantity that must be > 0: the smallest positive double (0 itself is refused).
 pub const POSITIVE: f64 = f64::from_bits(1);
