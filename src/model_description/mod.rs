@@ -3,8 +3,8 @@
 //! The XML structures and what both versions declare alike (copyright, licence, default
 //! experiment, the XML text) are `fmi_shared::model_description`'s, shared with the Body FMU;
 //! here, once for both versions, is what this crate gives them: a variant's table as a
-//! `fmi_shared::model_description::Model` (its rows with the causality and variability names,
-//! units, log categories, outputs with their dependencies) and the unit table. Pure functions
+//! `fmi_shared::model_description::Model` (its rows, units, log categories, outputs with their
+//! dependencies) and the unit table. Pure functions
 //! of the tables (`crate::model::variables`, `crate::error`'s categories), no I/O; the
 //! committed files must equal their output (tests/model_description*.rs).
 
@@ -12,27 +12,8 @@ pub mod fmi2;
 pub mod fmi3;
 
 use crate::error::Category;
-use crate::model::variables::{Causality, Start, Table, Variability};
+use crate::model::variables::{Start, Table};
 use fmi_shared::model_description::{Model, Output, Type, Variable};
-
-/// The `causality` attribute of a table row.
-fn causality(c: Causality) -> &'static str {
-    match c {
-        Causality::Parameter => "parameter",
-        Causality::Input => "input",
-        Causality::Output => "output",
-    }
-}
-
-/// The `variability` attribute of a table row.
-fn variability(v: Variability) -> &'static str {
-    match v {
-        Variability::Fixed => "fixed",
-        Variability::Tunable => "tunable",
-        Variability::Discrete => "discrete",
-        Variability::Continuous => "continuous",
-    }
-}
 
 /// The model both model descriptions of `t` declare: its rows as the XML spells them and its
 /// outputs' dependencies (value references, in table order; FMI 2.0 writes them as indices).
@@ -46,8 +27,8 @@ fn model(t: &Table) -> Model {
                 name: v.name.clone(),
                 vr: v.vr,
                 description: v.description.clone(),
-                causality: causality(v.causality),
-                variability: variability(v.variability),
+                causality: v.causality,
+                variability: v.variability,
                 ty: match v.start {
                     Start::Real(_) => Type::Real,
                     Start::Integer(_) => Type::Integer,

@@ -3,8 +3,8 @@
 //! The XML structures and what both versions declare alike (copyright, licence, default
 //! experiment, the XML text) are `fmi_shared::model_description`'s, shared with the connector
 //! FMU; here, once for both versions, is what this crate gives them: the table as a
-//! `fmi_shared::model_description::Model` (rows with the causality and variability names,
-//! units, log categories, outputs with their dependencies), the unit table and the model
+//! `fmi_shared::model_description::Model` (rows, units, log categories, outputs with their
+//! dependencies), the unit table and the model
 //! structure's `dependencies` (also answered at run time by fmi3GetVariableDependencies). Pure
 //! functions of `crate::variables` (and `crate::error`'s categories), no I/O; the committed
 //! files must equal their output (bodies/tests/model_description.rs). Uses `fmi_shared`.
@@ -13,27 +13,8 @@ pub mod fmi2;
 pub mod fmi3;
 
 use crate::error::Category;
-use crate::variables::{
-    guid, xml_real, Causality, Var, Variability, DESCRIPTION, MODEL_IDENTIFIER, VARS,
-};
+use crate::variables::{guid, xml_real, Causality, Var, DESCRIPTION, MODEL_IDENTIFIER, VARS};
 use fmi_shared::model_description::{Model, Output, Type, Variable};
-
-/// The `causality` attribute.
-fn causality(c: Causality) -> &'static str {
-    match c {
-        Causality::Parameter => "parameter",
-        Causality::Input => "input",
-        Causality::Output => "output",
-    }
-}
-
-/// The `variability` attribute.
-fn variability(v: Variability) -> &'static str {
-    match v {
-        Variability::Fixed => "fixed",
-        Variability::Continuous => "continuous",
-    }
-}
 
 /// The unit attribute of a row (none for a dimensionless variable).
 fn unit(v: &Var) -> Option<&'static str> {
@@ -87,8 +68,8 @@ fn variable(v: &Var) -> Variable {
         name: v.name.to_string(),
         vr: v.vr,
         description: v.description.to_string(),
-        causality: causality(v.causality),
-        variability: variability(v.variability),
+        causality: v.causality,
+        variability: v.variability,
         ty: if i { Type::Integer } else { Type::Real },
         unit: if i { None } else { unit(v) },
         start: number(v.start),

@@ -158,8 +158,8 @@ pub fn model_description(m: &Model, caps: &Capabilities) -> String {
             name: v.name.clone(),
             vr: v.vr,
             description: v.description.clone(),
-            causality: v.causality,
-            variability: v.variability,
+            causality: v.causality.name(),
+            variability: v.variability.name(),
             ty: match v.ty {
                 Type::Real => TypeElement::Real(Attrs {
                     start: v.start.clone(),

@@ -1,7 +1,8 @@
 //! The model-description XML of both FMUs, once: the serde + quick-xml structures of the FMI 2.0
 //! (`fmi2`) and FMI 3.0 (`fmi3`) `modelDescription.xml`, and here what both versions declare
-//! alike: copyright and licence, units, log categories, the default experiment and the XML text
-//! around the serialized structs. Generic over plain data: a crate describes its model as a
+//! alike: copyright and licence, units, log categories, the default experiment, the causality
+//! and variability enums (the FMU crates' tables use them) and the XML text around the
+//! serialized structs. Generic over plain data: a crate describes its model as a
 //! `Model` (identifier, GUID, descriptive attributes, unit table, log categories, variable rows,
 //! outputs with their dependencies) built from its own variable table. Pure functions, no I/O.
 //! Uses serde and quick-xml only; connector_fmu (src/model_description) and body_fmu
@@ -44,6 +45,53 @@ pub struct Model {
     pub outputs: Vec<Output>,
 }
 
+/// FMI causality of a variable (FMI 3.0's `independent` is only `time`'s, written by `fmi3`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Causality {
+    /// parameter
+    Parameter,
+    /// input
+    Input,
+    /// output
+    Output,
+}
+
+impl Causality {
+    /// The `causality` attribute.
+    pub fn name(self) -> &'static str {
+        match self {
+            Causality::Parameter => "parameter",
+            Causality::Input => "input",
+            Causality::Output => "output",
+        }
+    }
+}
+
+/// FMI variability of a variable.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Variability {
+    /// fixed: set before initialization ends
+    Fixed,
+    /// tunable: may change between steps
+    Tunable,
+    /// discrete
+    Discrete,
+    /// continuous
+    Continuous,
+}
+
+impl Variability {
+    /// The `variability` attribute.
+    pub fn name(self) -> &'static str {
+        match self {
+            Variability::Fixed => "fixed",
+            Variability::Tunable => "tunable",
+            Variability::Discrete => "discrete",
+            Variability::Continuous => "continuous",
+        }
+    }
+}
+
 /// The base type of a variable (FMI 3.0: Real → Float64, Integer → Int32).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Type {
@@ -63,10 +111,10 @@ pub struct Variable {
     pub vr: u32,
     /// `description`.
     pub description: String,
-    /// `causality` ("parameter", "input", "output").
-    pub causality: &'static str,
-    /// `variability` ("fixed", "tunable", "discrete", "continuous").
-    pub variability: &'static str,
+    /// `causality`.
+    pub causality: Causality,
+    /// `variability`.
+    pub variability: Variability,
     /// The base type.
     pub ty: Type,
     /// `unit` (Real only).
