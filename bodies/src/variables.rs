@@ -2,7 +2,9 @@
 //! variability, type, start, unit, min/max, description and where its value lives. The model
 //! descriptions of both FMI versions, the start values, the setters' range checks and the
 //! GUID all come from here. Edit a row, then regenerate the committed XML with
-//! `cargo run --bin gen_body_model_description`. Uses nothing else of the crate.
+//! `cargo run --bin gen_body_model_description`. Uses nothing else of the crate; from
+//! `fmi_shared`, the causality and variability enums and the value reference of FMI 3.0's
+//! `time`.
 
 use std::sync::OnceLock;
 
@@ -11,25 +13,9 @@ pub const MODEL_IDENTIFIER: &str = "Body";
 /// The model description's `description`.
 pub const DESCRIPTION: &str = "Body: a rigid body under gravity, a force and a moment, integrated per communication step as the project's zero-order-hold master does (model 0: exact per world axis; model 1: free 3-D rigid body, RK4)";
 
-/// Causality.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Causality {
-    /// parameter
-    Parameter,
-    /// input
-    Input,
-    /// output
-    Output,
-}
-
-/// Variability.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Variability {
-    /// fixed (parameters: set before ExitInitializationMode only)
-    Fixed,
-    /// continuous (inputs and outputs)
-    Continuous,
-}
+/// Causality and variability (parameters are fixed, inputs and outputs continuous; the Body
+/// uses no other variability), the same enums as the connector FMU's (`fmi_shared`).
+pub use fmi_shared::model_description::{Causality, Variability};
 
 /// An output, computed from the body's state when read.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -150,8 +136,9 @@ pub mod int {
     pub const N: usize = 7;
 }
 
-/// FMI 3.0's independent variable `time` (no row uses value reference 0).
-pub const TIME_VR: u32 = 0;
+/// FMI 3.0's independent variable `time` (no row uses value reference 0; the model description
+/// declares it as `fmi_shared` does).
+pub const TIME_VR: u32 = fmi_shared::model_description::fmi3::TIME_VR;
 
 /// `min` of a quantity that must be > 0: the smallest positive double (0 itself is refused).
 pub const POSITIVE: f64 = f64::from_bits(1);

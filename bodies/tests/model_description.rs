@@ -69,6 +69,8 @@ fn variability(v: Variability) -> &'static str {
     match v {
         Variability::Fixed => "fixed",
         Variability::Continuous => "continuous",
+        // not in the Body's table (the enum is the connector's too)
+        Variability::Tunable | Variability::Discrete => "none of the Body's",
     }
 }
 

@@ -9,6 +9,8 @@
 //! the flexion angle α1), so a new pairing costs one `VARIANTS` entry.
 //!
 //! Value references are stable across variants: the same variable has the same VR everywhere.
+//! The `Causality` and `Variability` enums are `fmi_shared`'s (the Body FMU's table uses them
+//! too).
 
 use crate::physics::kinematics::{ConnectionType, Role, Rotational, Translational};
 use crate::physics::math::Real;
@@ -111,29 +113,9 @@ impl Variant {
     }
 }
 
-/// FMI causality.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Causality {
-    /// parameter
-    Parameter,
-    /// input
-    Input,
-    /// output
-    Output,
-}
-
-/// FMI variability.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Variability {
-    /// fixed: set before initialization ends
-    Fixed,
-    /// tunable: may change between steps
-    Tunable,
-    /// discrete (Integer outputs)
-    Discrete,
-    /// continuous
-    Continuous,
-}
+/// FMI causality and variability (Integer outputs are discrete), the same enums as the Body
+/// FMU's (`fmi_shared`).
+pub use fmi_shared::model_description::{Causality, Variability};
 
 /// FMI base type with its start value.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -1197,25 +1179,14 @@ pub fn interface_text(t: &Table) -> String {
         t.spec.model_identifier,
         env!("CARGO_PKG_VERSION")
     );
-    let causality = |c: Causality| match c {
-        Causality::Parameter => "parameter",
-        Causality::Input => "input",
-        Causality::Output => "output",
-    };
-    let variability = |v: Variability| match v {
-        Variability::Fixed => "fixed",
-        Variability::Tunable => "tunable",
-        Variability::Discrete => "discrete",
-        Variability::Continuous => "continuous",
-    };
     for v in &t.vars {
         let (min, max) = v.range_text();
         s.push_str(&format!(
             "{}|{}|{}|{}|{}|{}|{}|{}|{}\n",
             v.name,
             v.vr,
-            causality(v.causality),
-            variability(v.variability),
+            v.causality.name(),
+            v.variability.name(),
             v.type_name(),
             v.start_text().unwrap_or_default(),
             v.unit_text().unwrap_or_default(),

@@ -1,149 +1,80 @@
 //! The model descriptions generated from the variable tables: FMI 2.0 (`fmi2`,
-//! `modelDescription/<Variant>.xml`) and FMI 3.0 (`fmi3`, `modelDescription/fmi3/<Variant>.xml`),
-//! and here, once, what both declare alike: units, log categories, the default experiment,
-//! copyright and licence, the causality and variability names, and the XML text around the
-//! serialized structs. Pure functions of the tables (`crate::model::variables`), no I/O; the
+//! `modelDescription/<Variant>.xml`) and FMI 3.0 (`fmi3`, `modelDescription/fmi3/<Variant>.xml`).
+//! The XML structures and what both versions declare alike (copyright, licence, default
+//! experiment, the XML text) are `fmi_shared::model_description`'s, shared with the Body FMU;
+//! here, once for both versions, is what this crate gives them: a variant's table as a
+//! `fmi_shared::model_description::Model` (its rows, units, log categories, outputs with their
+//! dependencies) and the unit table. Pure functions
+//! of the tables (`crate::model::variables`, `crate::error`'s categories), no I/O; the
 //! committed files must equal their output (tests/model_description*.rs).
 
 pub mod fmi2;
 pub mod fmi3;
 
 use crate::error::Category;
-use crate::model::variables::{Causality, Table, Variability};
-use serde::Serialize;
+use crate::model::variables::{Start, Table};
+use fmi_shared::model_description::{Model, Output, Type, Variable};
 
-pub use crate::model::variables::xml_real;
-
-/// `copyright` of every model description (the LICENSE file at the repository's top).
-pub const COPYRIGHT: &str = "Copyright (c) 2026 the connector_fmu authors";
-/// `license` of every model description (Cargo.toml's licence; the text is in LICENSE).
-pub const LICENSE: &str = "MIT";
-
-/// The XML text of a model description: the declaration, then the struct serialized with
-/// two-space indentation.
-fn to_xml<T: Serialize>(md: &T) -> String {
-    let mut body = String::new();
-    let mut ser = quick_xml::se::Serializer::new(&mut body);
-    ser.indent(' ', 2);
-    // Why no `?`: serialising plain structs into a String cannot fail; an error here would
-    // be a bug in the structs, which the drift tests would show at once.
-    if md.serialize(ser).is_err() {
-        return String::new();
-    }
-    format!("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n{body}\n")
-}
-
-/// The `causality` attribute of a table row.
-fn causality(c: Causality) -> &'static str {
-    match c {
-        Causality::Parameter => "parameter",
-        Causality::Input => "input",
-        Causality::Output => "output",
-    }
-}
-
-/// The `variability` attribute of a table row.
-fn variability(v: Variability) -> &'static str {
-    match v {
-        Variability::Fixed => "fixed",
-        Variability::Tunable => "tunable",
-        Variability::Discrete => "discrete",
-        Variability::Continuous => "continuous",
-    }
-}
-
-/// `<UnitDefinitions>`: the units a table uses .
-#[derive(Serialize)]
-pub struct UnitDefinitions {
-    #[serde(rename = "Unit")]
-    units: Vec<Unit>,
-}
-
-#[derive(Serialize)]
-struct Unit {
-    #[serde(rename = "@name")]
-    name: &'static str,
-    #[serde(rename = "BaseUnit")]
-    base: BaseUnit,
-}
-
-#[derive(Serialize, Default)]
-struct BaseUnit {
-    #[serde(rename = "@kg", skip_serializing_if = "is_zero")]
-    kg: i32,
-    #[serde(rename = "@m", skip_serializing_if = "is_zero")]
-    m: i32,
-    #[serde(rename = "@s", skip_serializing_if = "is_zero")]
-    s: i32,
-    #[serde(rename = "@rad", skip_serializing_if = "is_zero")]
-    rad: i32,
-}
-
-fn is_zero(x: &i32) -> bool {
-    *x == 0
-}
-
-/// `<LogCategories>` .
-#[derive(Serialize)]
-pub struct LogCategories {
-    #[serde(rename = "Category")]
-    categories: Vec<LogCategory>,
-}
-
-#[derive(Serialize)]
-struct LogCategory {
-    #[serde(rename = "@name")]
-    name: &'static str,
-    #[serde(rename = "@description")]
-    description: String,
-}
-
-/// `<DefaultExperiment>` .
-#[derive(Serialize)]
-pub struct DefaultExperiment {
-    #[serde(rename = "@startTime")]
-    start: &'static str,
-    #[serde(rename = "@stopTime")]
-    stop: &'static str,
-    #[serde(rename = "@stepSize")]
-    step: &'static str,
-}
-
-/// The units of `t`'s variables and of `extra` (FMI 3.0's `time`), in `UNITS` order.
-pub fn unit_definitions(t: &Table, extra: &[&str]) -> UnitDefinitions {
-    let mut used: std::collections::BTreeSet<&str> = t.vars.iter().map(|v| v.unit).collect();
-    used.extend(extra);
-    let units = UNITS
+/// The model both model descriptions of `t` declare: its rows as the XML spells them and its
+/// outputs' dependencies (value references, in table order; FMI 2.0 writes them as indices).
+fn model(t: &Table) -> Model {
+    let variables = t
+        .vars
         .iter()
-        .filter(|(n, _)| used.contains(n))
-        .map(|&(name, [kg, m, s, rad])| Unit {
-            name,
-            base: BaseUnit { kg, m, s, rad },
+        .map(|v| {
+            let (min, max) = v.range_text();
+            Variable {
+                name: v.name.clone(),
+                vr: v.vr,
+                description: v.description.clone(),
+                causality: v.causality,
+                variability: v.variability,
+                ty: match v.start {
+                    Start::Real(_) => Type::Real,
+                    Start::Integer(_) => Type::Integer,
+                    Start::Boolean(_) => Type::Boolean,
+                },
+                unit: v.unit_text(),
+                start: v.start_text(),
+                min,
+                max,
+            }
         })
         .collect();
-    UnitDefinitions { units }
-}
-
-/// The log categories, their descriptions naming the functions of FMI version `fmi` ("fmi2",
-/// "fmi3").
-pub fn log_categories(fmi: &str) -> LogCategories {
-    LogCategories {
-        categories: Category::ALL
-            .iter()
-            .map(|c| LogCategory {
-                name: c.name(),
-                description: c.description().replace("fmi2", fmi),
+    // the table's 1-based indices as value references
+    let vrs = |ix: Vec<usize>| -> Vec<u32> {
+        ix.iter()
+            .filter_map(|&k| t.vars.get(k - 1))
+            .map(|v| v.vr)
+            .collect()
+    };
+    let outputs = (0..t.vars.len())
+        .filter_map(|i| {
+            let (inputs, init) = t.dependencies(i)?;
+            Some(Output {
+                vr: t.vars[i].vr,
+                dependencies: vrs(inputs),
+                initial: vrs(init),
             })
+        })
+        .collect();
+    Model {
+        model_identifier: t.spec.model_identifier,
+        guid: t.guid.clone(),
+        description: t.spec.description,
+        author: env!("CARGO_PKG_AUTHORS"),
+        version: env!("CARGO_PKG_VERSION"),
+        generation_tool: format!("connector_fmu {}", env!("CARGO_PKG_VERSION")),
+        units: &UNITS,
+        used_units: t.vars.iter().map(|v| v.unit).collect(),
+        log_categories: Category::ALL
+            .iter()
+            .map(|c| (c.name(), c.description().to_string()))
             .collect(),
+        variables,
+        outputs,
     }
 }
-
-/// The default experiment: 1 s in steps of 1 ms.
-pub const DEFAULT_EXPERIMENT: DefaultExperiment = DefaultExperiment {
-    start: "0",
-    stop: "1",
-    step: "0.001",
-};
 
 /// Units used by the tables, with their SI base-unit exponents (kg, m, s, rad).
 pub const UNITS: [(&str, [i32; 4]); 15] = [

@@ -1,56 +1,11 @@
-//! Hand-written C types of FMI 3.0 (`fmi3PlatformTypes.h`, `fmi3FunctionTypes.h`).
-//! `fmi3Boolean` is C `bool`, taken as a byte (same size and calling convention) so that a value
-//! other than 0 or 1 from a careless importer reads as true instead of being an invalid Rust
-//! `bool`; the FMU only writes 0 or 1. `fmi3Status` is only returned: a `#[repr(C)]` enum. Uses
-//! `crate::error::Level`.
-#![allow(non_camel_case_types, non_snake_case, non_upper_case_globals)]
+//! The C types of FMI 3.0: `fmi_shared::fmi3` (the typedefs, `fmi3Status`, the callback
+//! types; shared with the connector FMU), re-exported here with the mapping of this crate's
+//! status levels (`crate::error::Level`) onto `fmi3Status`. Uses `fmi_shared` and
+//! `crate::error`; the FMI 3.0 boundary and logger use it.
+
+pub use fmi_shared::fmi3::*;
 
 use crate::error::Level;
-use std::ffi::{c_char, c_int, c_void};
-
-/// Opaque instance handle (a `Box<Instance>` behind the pointer).
-pub type fmi3Instance = *mut c_void;
-/// The importer's opaque pointer, handed back to its logger unchanged.
-pub type fmi3InstanceEnvironment = *mut c_void;
-/// Opaque FMU state (a `Box<Snapshot>`, as in FMI 2.0).
-pub type fmi3FMUState = *mut c_void;
-/// Value reference.
-pub type fmi3ValueReference = u32;
-/// Float64.
-pub type fmi3Float64 = f64;
-/// Int32.
-pub type fmi3Int32 = i32;
-/// C `bool`, read as a byte (any non-zero value is true).
-pub type fmi3Boolean = u8;
-/// NUL-terminated C string.
-pub type fmi3String = *const c_char;
-/// Byte of a serialized FMU state or of a binary value.
-pub type fmi3Byte = u8;
-/// A binary value: pointer to its first byte.
-pub type fmi3Binary = *const fmi3Byte;
-/// Clock (C `bool`, read as a byte).
-pub type fmi3Clock = u8;
-/// `fmi3IntervalQualifier` (never written: no clocks).
-pub type fmi3IntervalQualifier = c_int;
-
-/// fmi3False.
-pub const fmi3False: fmi3Boolean = 0;
-
-/// Status returned by every FMI 3.0 function.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum fmi3Status {
-    /// fmi3OK
-    OK = 0,
-    /// fmi3Warning
-    Warning = 1,
-    /// fmi3Discard
-    Discard = 2,
-    /// fmi3Error
-    Error = 3,
-    /// fmi3Fatal
-    Fatal = 4,
-}
 
 impl From<Level> for fmi3Status {
     fn from(l: Level) -> Self {
@@ -61,49 +16,3 @@ impl From<Level> for fmi3Status {
         }
     }
 }
-
-/// `fmi3DependencyKind` (only written by the FMU).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum fmi3DependencyKind {
-    /// fmi3Independent
-    Independent = 0,
-    /// fmi3Constant
-    Constant = 1,
-    /// fmi3Fixed
-    Fixed = 2,
-    /// fmi3Tunable
-    Tunable = 3,
-    /// fmi3Discrete
-    Discrete = 4,
-    /// fmi3Dependent
-    Dependent = 5,
-}
-
-/// `fmi3LogMessageCallback`: unlike FMI 2.0's, not variadic, and `message` is not a format.
-pub type fmi3LogMessageCallback = unsafe extern "C" fn(
-    instanceEnvironment: fmi3InstanceEnvironment,
-    status: fmi3Status,
-    category: fmi3String,
-    message: fmi3String,
-);
-
-/// `fmi3IntermediateUpdateCallback` (never called: providesIntermediateUpdate = false).
-pub type fmi3IntermediateUpdateCallback = unsafe extern "C" fn(
-    instanceEnvironment: fmi3InstanceEnvironment,
-    intermediateUpdateTime: fmi3Float64,
-    intermediateVariableSetRequested: fmi3Boolean,
-    intermediateVariableGetAllowed: fmi3Boolean,
-    intermediateStepFinished: fmi3Boolean,
-    canReturnEarly: fmi3Boolean,
-    earlyReturnRequested: *mut fmi3Boolean,
-    earlyReturnTime: *mut fmi3Float64,
-);
-
-/// `fmi3ClockUpdateCallback` (Scheduled Execution, refused).
-pub type fmi3ClockUpdateCallback =
-    unsafe extern "C" fn(instanceEnvironment: fmi3InstanceEnvironment);
-/// `fmi3LockPreemptionCallback` (Scheduled Execution, refused).
-pub type fmi3LockPreemptionCallback = unsafe extern "C" fn();
-/// `fmi3UnlockPreemptionCallback` (Scheduled Execution, refused).
-pub type fmi3UnlockPreemptionCallback = unsafe extern "C" fn();
