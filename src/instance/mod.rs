@@ -7,7 +7,6 @@
 //! - `stepping`: fmi2DoStep and its status;
 //! - `derivatives`: input derivatives and directional derivatives.
 
-mod cache;
 mod derivatives;
 mod memo;
 mod stepping;
@@ -26,7 +25,6 @@ use crate::physics::kinematics::{
     Computed, ConnectionType, Node, NodeDual, Pose, Rotational, Singular, TriadSource,
 };
 use crate::physics::math::{Dual, Real};
-use cache::OutputCache;
 use memo::{quat_bits, PointMemo, VrMemo};
 
 #[cfg(test)]
@@ -152,8 +150,6 @@ pub struct ModelInstance {
     s: Snapshot,
     /// Whether fmi3DoStep stops at the first event (earlyReturnAllowed).
     early_return: bool,
-    /// Outputs at the current inputs and committed state.
-    cache: OutputCache,
     /// The last VR list of fmi2SetReal's per-step path, resolved to input slots.
     set_memo: VrMemo,
     /// The last VR list of fmi2GetReal's per-step path, resolved to node-load slots.
@@ -196,7 +192,6 @@ impl ModelInstance {
             fmi: FmiVersion::V2,
             s: initial_snapshot(table),
             early_return: false,
-            cache: OutputCache::new(),
             set_memo: VrMemo::default(),
             get_memo: VrMemo::default(),
             unknown_memo: VrMemo::default(),
@@ -300,7 +295,7 @@ impl ModelInstance {
     pub fn enter_initialization_mode(&mut self) -> FmuResult<()> {
         self.allowed(Call::Setup)?;
         self.s.mode = Mode::InitializationMode;
-        self.cache.clear();
+        self.s.outputs.clear();
         Ok(())
     }
 
@@ -325,7 +320,7 @@ impl ModelInstance {
         self.s.state = st;
         self.s.mode = Mode::StepComplete;
         self.s.events = None;
-        self.cache.clear();
+        self.s.outputs.clear();
         Ok(())
     }
 
@@ -340,7 +335,6 @@ impl ModelInstance {
     pub fn reset(&mut self) -> FmuResult<()> {
         self.allowed(Call::Lifecycle)?;
         self.s = initial_snapshot(self.table);
-        self.cache.clear();
         Ok(())
     }
 
@@ -353,7 +347,9 @@ impl ModelInstance {
     /// state the instance would start from at those inputs).
     fn evaluate_at(&self, inputs: &[NodeInputs; 2], mode: Eval) -> FmuResult<Outputs> {
         let mut o = Outputs::default();
-        evaluate_at_into(self.table, self.ct, &self.s, inputs, mode, &mut o, None)?;
+        let s = &self.s;
+        let at = At::of(s, inputs);
+        evaluate_at_into(self.table, self.ct, &at, mode, &mut o, None)?;
         Ok(o)
     }
 
@@ -416,11 +412,12 @@ impl ModelInstance {
     /// followed by derivatives at that point: the step moves on).
     #[inline]
     fn outputs_keeping(&mut self, keep: bool) -> FmuResult<&Outputs> {
-        if self.cache.get().is_none() {
+        if self.s.outputs.get().is_none() {
             self.read_outputs(keep)?;
         }
         // just filled when it was empty
-        self.cache
+        self.s
+            .outputs
             .get()
             .ok_or_else(|| FmuError::error("no outputs"))
     }
@@ -429,17 +426,23 @@ impl ModelInstance {
     /// the usual one, finds the step's outputs cached).
     #[inline(never)]
     fn read_outputs(&mut self, keep: bool) -> FmuResult<()> {
-        let s = &self.s;
+        let s = &mut self.s;
+        let at = At {
+            mode: s.mode,
+            params: &s.params,
+            state: &s.state,
+            event: s.event,
+            inputs: &s.inputs,
+        };
         evaluate_at_into(
             self.table,
             self.ct,
-            s,
-            &s.inputs,
+            &at,
             Eval::Read,
-            self.cache.spare(),
+            s.outputs.spare(),
             (keep && self.ct.centred()).then_some(&mut self.point_memo),
         )?;
-        self.cache.commit_spare();
+        s.outputs.commit_read();
         Ok(())
     }
 
@@ -466,8 +469,8 @@ impl ModelInstance {
     pub fn set_state(&mut self, s: &Snapshot) -> FmuResult<()> {
         self.allowed(Call::Lifecycle)?;
         self.own_state(s)?;
+        // with its cached outputs (`model::cache`)
         self.s = s.clone();
-        self.cache.clear();
         Ok(())
     }
 
@@ -484,26 +487,49 @@ impl ModelInstance {
     }
 }
 
-/// Outputs at `inputs` with the committed state of `s` (in initialization: with the state the
-/// instance would start from at those inputs), written into `o`; with `memo`, the centred
+/// What an evaluation of the outputs reads of a snapshot: its mode, parameters, committed state
+/// and last events, at the given inputs (its own, or others). Borrowed field by field, so that
+/// the outputs can be evaluated into the snapshot's own cache (`Snapshot::outputs`).
+struct At<'s> {
+    mode: Mode,
+    params: &'s crate::physics::connector::Params,
+    state: &'s State,
+    event: crate::model::snapshot::LastEvent,
+    inputs: &'s [NodeInputs; 2],
+}
+
+impl<'s> At<'s> {
+    /// The snapshot `s` at `inputs`.
+    fn of(s: &'s Snapshot, inputs: &'s [NodeInputs; 2]) -> At<'s> {
+        At {
+            mode: s.mode,
+            params: &s.params,
+            state: &s.state,
+            event: s.event,
+            inputs,
+        }
+    }
+}
+
+/// Outputs at `s.inputs` with the committed state of `s` (in initialization: with the state
+/// the instance would start from at those inputs), written into `o`; with `memo`, the centred
 /// triad is the one it holds for these inputs, else computed there (`PointMemo::read`).
-#[allow(clippy::too_many_arguments)]
 fn evaluate_at_into(
     t: &Table,
     ct: ConnectionType,
-    s: &Snapshot,
-    inputs: &[NodeInputs; 2],
+    s: &At,
     mode: Eval,
     o: &mut Outputs,
     memo: Option<&mut PointMemo>,
 ) -> FmuResult<()> {
+    let inputs = s.inputs;
     let (a, b) = nodes_of(inputs)?;
     let init;
     let st = if s.mode == Mode::InitializationMode {
-        init = initial_state(ct, &s.params, &a, &b).map_err(singular_error)?;
+        init = initial_state(ct, s.params, &a, &b).map_err(singular_error)?;
         &init
     } else {
-        &s.state
+        s.state
     };
     let mut next = State::default();
     let pose = Pose::of(&a, &b);
@@ -521,14 +547,14 @@ fn evaluate_at_into(
     match known {
         Some(triad) => evaluate_pose(
             ct,
-            &s.params,
+            s.params,
             st,
             &pose,
             TriadSource::Given(triad),
             mode,
             out,
         ),
-        None => evaluate_pose(ct, &s.params, st, &pose, Computed, mode, out),
+        None => evaluate_pose(ct, s.params, st, &pose, Computed, mode, out),
     }
     .map_err(singular_error)?;
     (o.event_time, o.event_count) = (s.event.time, s.event.count);

@@ -85,18 +85,19 @@ impl ModelInstance {
         let [a, b] = &nodes;
         let (ra, rb) = (self.rates(0, a, t), self.rates(1, b, t));
         let before = self.wants(Category::Events).then_some(self.s.state);
-        // the event functions at the step's start: from the outputs at its inputs when they are
-        // at hand (the cache) or needed; the sides at the last step's end where every function
-        // was far from its event there (`events::far`); where the outputs cannot be evaluated
-        // the step below reports why
+        // the event functions at the step's start: from the outputs at its inputs where the
+        // last step's are at hand (state) or the values are needed; the sides at the last
+        // step's end where every function was far from its event there (`events::far`),
+        // whether or not a read left its outputs in the cache (a memo: the step must not
+        // depend on it); where the outputs cannot be evaluated the step below reports why
         let exact: Values;
         let start: Option<(&Values, bool)> = if !events::tracked(self.ct, &self.s.params) {
             None
         } else {
-            match (&self.s.events, self.cache.get()) {
+            match (&self.s.events, self.s.outputs.stepped()) {
                 (Some(r), None) if r.far => Some((&r.end, false)),
                 _ => match self.outputs_keeping(false) {
-                    Ok(_) => match self.cache.get() {
+                    Ok(_) => match self.s.outputs.get() {
                         Some(o) => {
                             exact = events::values(self.ct, &self.s.params, &self.s.state, o);
                             Some((&exact, true))
@@ -117,7 +118,7 @@ impl ModelInstance {
             t0: t,
         });
         // the outputs at t + h are evaluated into the cache's spare buffer: it becomes the
-        // cache when the step is accepted, and a failed step leaves the cache as it was
+        // cache when the step is accepted, and a refused step leaves the cache as it was
         let mut next = State::default();
         let mut ends = [Node::default(); 2];
         match advance_into(
@@ -129,7 +130,7 @@ impl ModelInstance {
             h,
             track,
             Ends {
-                outputs: self.cache.spare(),
+                outputs: self.s.outputs.spare(),
                 state: &mut next,
                 nodes: &mut ends,
                 events: &mut self.event_end,
@@ -155,7 +156,7 @@ impl ModelInstance {
                     time: t + met.tau,
                     count: met.count as i32,
                 };
-                let o = self.cache.spare();
+                let o = self.s.outputs.spare();
                 (o.event_time, o.event_count) = (self.s.event.time, self.s.event.count);
                 // the event functions at this step's end, and whether each is far from its
                 // event, judged by its change since the start (exact, or the last step's end)
@@ -172,11 +173,10 @@ impl ModelInstance {
                 write_node(&mut self.s.inputs[0], &ends[0]);
                 write_node(&mut self.s.inputs[1], &ends[1]);
                 self.s.input_der_set = [[false; POSE_TWIST]; 2];
-                // Outputs are a function of (inputs, committed state) alone: the last substep
-                // was evaluated on the nodes exactly as they are written back, from the angle
-                // branches and friction state it commits, so its outputs are that function's
-                // value (bit for bit: a restored FMU state reports what was read at saving).
-                self.cache.commit_spare();
+                // the outputs of the last substep, on the nodes as they are written back and
+                // the state it commits, are the cache: part of the FMU state (`model::cache`),
+                // so a restored state reports what was read at saving, bit for bit
+                self.s.outputs.commit_step();
                 if let Some(before) = before {
                     self.log_transitions(&before, &self.s.state);
                     if met.count > 0 {
@@ -187,13 +187,12 @@ impl ModelInstance {
             }
             Err(e) => {
                 self.s.mode = Mode::Error;
-                // what is read after a refused step is evaluated at the kept inputs and state,
-                // as after a restore of that state (not the outputs of an earlier step, which
-                // can differ from a read at the same point by round-off in friction)
-                self.cache.clear();
+                // the state is kept whole, its cached outputs too (`model::cache`): what is
+                // read after a refused step is what was read before it, and what a restore of
+                // the state reads
                 let cause = match e {
                     StepError::NotFinite(_) => {
-                        non_finite_cause(self.table, self.cache.spare(), &self.s.inputs)
+                        non_finite_cause(self.table, self.s.outputs.spare(), &self.s.inputs)
                     }
                     _ => String::new(),
                 };

@@ -94,7 +94,7 @@ impl ModelInstance {
             }
             if inputs != self.s.inputs {
                 self.s.inputs = inputs;
-                self.cache.clear();
+                self.s.outputs.clear();
             }
             return Ok(());
         }
@@ -117,7 +117,7 @@ impl ModelInstance {
         if params != self.s.params || inputs != self.s.inputs {
             self.s.params = params;
             self.s.inputs = inputs;
-            self.cache.clear();
+            self.s.outputs.clear();
         }
         Ok(())
     }
@@ -143,7 +143,7 @@ impl ModelInstance {
                     }
                 }
             }
-            self.cache.clear();
+            self.s.outputs.clear();
             return Ok(());
         }
         let index = &*self.real.input_index;
@@ -160,9 +160,8 @@ impl ModelInstance {
             }
         }
         self.set_memo.remember(vrs, vrs.iter().map(|&vr| slot(vr)));
-        // Outputs are evaluated again when read: a function of the inputs and the committed
-        // state, so an unchanged value reads back the same bits.
-        self.cache.clear();
+        // the cached outputs were those at the old inputs: they are evaluated again when read
+        self.s.outputs.clear();
         Ok(())
     }
 
@@ -224,7 +223,7 @@ impl ModelInstance {
         if any_output {
             self.outputs()?;
         }
-        let o = self.cache.get();
+        let o = self.s.outputs.get();
         for (&vr, slot) in vrs.iter().zip(out.iter_mut()) {
             *slot = read(&self.s, self.var(vr, ty)?, o);
         }
@@ -273,7 +272,7 @@ impl ModelInstance {
         if any_output {
             self.outputs()?;
         }
-        let (o, loads) = match self.cache.get() {
+        let (o, loads) = match self.s.outputs.get() {
             Some(o) => (Some(o), node_loads(o)),
             None => (None, [0.0; 12]),
         };

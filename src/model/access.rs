@@ -4,6 +4,7 @@
 //! node inputs as physics nodes and back. Uses `variables`, `snapshot` and physics; neither of
 //! those uses it.
 
+use super::cache::OutputCache;
 use super::snapshot::{LastEvent, Mode, Snapshot};
 use super::variables::{
     Causality, CompOut, CompPar, Field, FrictionField, NodeInputs, ScalarPar, Start, Table,
@@ -68,6 +69,7 @@ pub fn initial_snapshot(t: &Table) -> Snapshot {
         },
         history: None,
         events: None,
+        outputs: OutputCache::new(),
     }
 }
 

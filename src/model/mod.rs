@@ -3,6 +3,7 @@
 //! form. Depends on physics only; the instance layer builds on it.
 
 pub mod access;
+pub mod cache;
 pub mod slots;
 pub mod snapshot;
 pub mod state_bytes;

@@ -2,9 +2,10 @@
 //! Plain data over the variable table's types (`variables`); how a snapshot starts from the
 //! table's start values is an access rule (`access::initial_snapshot`).
 //!
-//! Uses the table's types (`variables`) and the physics' state; `access`, `state_bytes` and the
-//! instance use it.
+//! Uses the table's types (`variables`), the output cache (`cache`) and the physics' state;
+//! `access`, `state_bytes` and the instance use it.
 
+use super::cache::OutputCache;
 use super::variables::{NodeInputs, PoseTwist, Variant, POSE_TWIST};
 use crate::physics::connector::{Params, State};
 use crate::physics::events::Values;
@@ -62,6 +63,10 @@ pub struct Snapshot {
     /// None whenever the state, the parameters or the mode change, so that the step after
     /// evaluates them.
     pub events: Option<EventRecord>,
+    /// The outputs at the current inputs and committed state where they are known: those the
+    /// last step ended with (state: a restored state reads what was read when it was saved), or
+    /// a read's (a memo, not state; `cache`).
+    pub outputs: OutputCache,
 }
 
 /// The event functions at the end of the last step (NaN: not taking part).

@@ -6,28 +6,33 @@
 //! derivatives that are set (u32 mask over the 2 × 13 poses and twists, then their f64 values), the
 //! connector state, the last step's event record (time f64, count i32), the input history (u8
 //! flag, then time and the 12 velocity inputs as f64 when set), the event-function record (u8:
-//! 0 none, 1 near, 2 far; then a u32 mask of the functions taking part and their values), and an
-//! FNV-1a 64 checksum of everything before it. Parameters and inputs
-//! are written back through the same checks as fmi2Set*, so a decoded state is one that the
-//! setters could have produced.
+//! 0 none, 1 near, 2 far; then a u32 mask of the functions taking part and their values), the
+//! outputs the last step ended with where they are still cached (u8: 0 none; 1 those of the 70
+//! Real outputs that differ from a fresh read at the state's inputs, as a u8 count and each a u8
+//! index and its f64; 2 all of them, the stop statuses as i8 and the friction statuses as u8;
+//! see `encode_outputs`), and an FNV-1a 64 checksum of everything before it. Parameters and
+//! inputs are written back through the same checks as fmi2Set*, so a decoded state is one that
+//! the setters could have produced.
 //!
-//! Uses the table, the data (`snapshot`), the access rules and the physics' state types; the
+//! Uses the table, the data (`snapshot`, its output cache), the access rules and the physics'
+//! state types and evaluation (the fresh read cached outputs are written against); the
 //! instance uses it.
 
-use super::access::{read_int_param, read_real_param, write_int, write_real};
+use super::access::{nodes_of, read_int_param, read_real_param, write_int, write_real};
+use super::cache::OutputCache;
 use super::snapshot::{EventRecord, LastEvent, Mode, Snapshot};
 use super::variables::{
     Causality, CompPar, Field, NodeInputs, Start, Table, NODE_INPUTS, POSE_TWIST,
 };
-use crate::physics::connector::{Energy, State};
+use crate::physics::connector::{evaluate, Energy, Outputs, State};
 use crate::physics::events::N_EVENTS;
-use crate::physics::friction::{FrictionState, Status};
+use crate::physics::friction::{Eval, FrictionState, Status};
 use crate::physics::kinematics::Branches;
 use crate::physics::math::Vec3;
 
 const MAGIC: &[u8; 4] = b"CFMU";
 /// Version of the byte format; bump on any layout change.
-pub const VERSION: u16 = 4;
+pub const VERSION: u16 = 5;
 
 struct W(Vec<u8>);
 
@@ -215,9 +220,152 @@ pub fn encode(t: &Table, s: &Snapshot) -> Vec<u8> {
             v.iter().filter(|x| !x.is_nan()).for_each(|&x| w.f(x));
         }
     }
+    encode_outputs(&mut w, t, s);
     let sum = fnv(&w.0);
     w.0.extend_from_slice(&sum.to_le_bytes());
     w.0
+}
+
+/// Real outputs in `flat`'s order: the eight per-component arrays, the four node loads, the six
+/// friction outputs, the four energies.
+const N_FLAT: usize = 8 * 6 + 4 * 3 + 6 + 4;
+
+/// The Real outputs of `o` in one array (event.time is the snapshot's, not an output here).
+fn flat(o: &Outputs) -> [f64; N_FLAT] {
+    let (f, e) = (&o.friction, &o.energy);
+    let mut x = [0.0; N_FLAT];
+    let arrays = [&o.cp, &o.cu, &o.cv, &o.cef, &o.cvf, &o.csf, &o.crf, &o.ctf];
+    let loads = [&o.fa, &o.ma, &o.fb, &o.mb].map(|v| [v.x, v.y, v.z]);
+    let rest = [f.cnf, f.cnm1, f.csfc, f.csmc1, f.slip, f.slip_r1];
+    let energy = [e.stored, e.damping, e.friction, e.stops];
+    let all = arrays.iter().flat_map(|a| a.iter());
+    let all = all
+        .chain(loads.iter().flatten())
+        .chain(&rest)
+        .chain(&energy);
+    for (x, &v) in x.iter_mut().zip(all) {
+        *x = v;
+    }
+    x
+}
+
+/// Writes `x` (in `flat`'s order) into the Real outputs of `o`.
+fn unflat(o: &mut Outputs, x: &[f64; N_FLAT]) {
+    let mut it = x.iter().copied();
+    let mut next = || it.next().unwrap_or(0.0);
+    for a in [
+        &mut o.cp, &mut o.cu, &mut o.cv, &mut o.cef, &mut o.cvf, &mut o.csf, &mut o.crf, &mut o.ctf,
+    ] {
+        a.iter_mut().for_each(|v| *v = next());
+    }
+    for v in [&mut o.fa, &mut o.ma, &mut o.fb, &mut o.mb] {
+        *v = Vec3::new(next(), next(), next());
+    }
+    let f = &mut o.friction;
+    for v in [
+        &mut f.cnf,
+        &mut f.cnm1,
+        &mut f.csfc,
+        &mut f.csmc1,
+        &mut f.slip,
+        &mut f.slip_r1,
+    ] {
+        *v = next();
+    }
+    let e = &mut o.energy;
+    for v in [&mut e.stored, &mut e.damping, &mut e.friction, &mut e.stops] {
+        *v = next();
+    }
+}
+
+/// The outputs a read evaluates at the snapshot's inputs with its committed state (None where
+/// they cannot be evaluated there): what the outputs a step ended with are written against.
+fn fresh_outputs(t: &Table, s: &Snapshot) -> Option<Outputs> {
+    let (a, b) = nodes_of(&s.inputs).ok()?;
+    let (mut o, _) = evaluate(t.spec.connection, &s.params, &s.state, &a, &b, Eval::Read).ok()?;
+    (o.event_time, o.event_count) = (s.event.time, s.event.count);
+    Some(o)
+}
+
+/// The outputs the last step ended with (`Snapshot::outputs`), where still cached. They equal a
+/// fresh read at the same inputs and state but for a few last bits (`model::cache`), so they
+/// are written as the Real outputs that differ from it (flag 1: their count, then index and
+/// value each), or whole (flag 2: where no fresh read can be made or its statuses differ).
+fn encode_outputs(w: &mut W, t: &Table, s: &Snapshot) {
+    let Some(o) = s.outputs.stepped() else {
+        return w.b(0);
+    };
+    let same_statuses = |f: &Outputs| {
+        f.cslst == o.cslst
+            && (f.friction.status, f.friction.status_r1)
+                == (o.friction.status, o.friction.status_r1)
+    };
+    let x = flat(o);
+    match fresh_outputs(t, s).filter(same_statuses) {
+        Some(fresh) => {
+            let y = flat(&fresh);
+            let differ: Vec<usize> = (0..N_FLAT)
+                .filter(|&i| x[i].to_bits() != y[i].to_bits())
+                .collect();
+            w.b(1);
+            w.b(differ.len() as u8);
+            for i in differ {
+                w.b(i as u8);
+                w.f(x[i]);
+            }
+        }
+        None => {
+            w.b(2);
+            w.fs(&x);
+            o.cslst.iter().for_each(|&k| w.b(k as i8 as u8));
+            w.b(o.friction.status as u8);
+            w.b(o.friction.status_r1 as u8);
+        }
+    }
+}
+
+/// The outputs written by `encode_outputs` for the snapshot `s` (decoded up to them): every
+/// value finite (NaN never reaches an output), indices in order, statuses in range.
+fn decode_outputs(r: &mut R, t: &Table, s: &Snapshot) -> Result<OutputCache, String> {
+    let o = match r.b()? {
+        0 => return Ok(OutputCache::new()),
+        1 => {
+            let mut o = fresh_outputs(t, s)
+                .ok_or("the cached outputs' reference cannot be evaluated at the state's inputs")?;
+            let mut x = flat(&o);
+            let n = r.b()? as usize;
+            let mut last = None;
+            for _ in 0..n {
+                let i = r.b()? as usize;
+                if i >= N_FLAT || last.is_some_and(|l| i <= l) {
+                    return Err(format!("cached output index {i} is out of order or range"));
+                }
+                x[i] = r.f("cached output")?;
+                last = Some(i);
+            }
+            unflat(&mut o, &x);
+            o
+        }
+        2 => {
+            let mut o = Outputs::default();
+            let x = r.fs::<N_FLAT>("cached output")?;
+            unflat(&mut o, &x);
+            for k in o.cslst.iter_mut() {
+                *k = match r.b()? {
+                    0 => 0,
+                    1 => 1,
+                    255 => -1,
+                    x => return Err(format!("cached stop status {x} is not -1, 0 or 1")),
+                };
+            }
+            o.friction.status = status(r.b()?)?;
+            o.friction.status_r1 = status(r.b()?)?;
+            (o.event_time, o.event_count) = (s.event.time, s.event.count);
+            o
+        }
+        x => return Err(format!("cached outputs flag {x} is not 0, 1 or 2")),
+    };
+    Ok(OutputCache::stepped_to(o))
 }
 
 fn status(x: u8) -> Result<Status, String> {
@@ -387,10 +535,11 @@ pub fn decode(t: &Table, bytes: &[u8]) -> Result<Snapshot, String> {
         }
         x => return Err(format!("event record flag {x} is not 0, 1 or 2")),
     };
-    if r.at != body.len() {
-        return Err(format!("{} unexpected trailing bytes", body.len() - r.at));
-    }
-    Ok(Snapshot {
+    let event = LastEvent {
+        time: event_time,
+        count: event_count,
+    };
+    let mut snapshot = Snapshot {
         variant: t.spec.variant,
         mode,
         time,
@@ -428,11 +577,14 @@ pub fn decode(t: &Table, bytes: &[u8]) -> Result<Snapshot, String> {
             },
             power: [p0, p1],
         },
-        event: LastEvent {
-            time: event_time,
-            count: event_count,
-        },
+        event,
         history,
         events,
-    })
+        outputs: OutputCache::new(),
+    };
+    snapshot.outputs = decode_outputs(&mut r, t, &snapshot)?;
+    if r.at != body.len() {
+        return Err(format!("{} unexpected trailing bytes", body.len() - r.at));
+    }
+    Ok(snapshot)
 }
