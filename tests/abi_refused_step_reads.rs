@@ -11,8 +11,8 @@
 //! negative, NaN, ∞), the communication point (not the FMU's time, NaN, ∞), a step end that
 //! overflows, a call outside Step Mode (Initialization Mode, Terminated, after an Error), an
 //! orientation input that is not a rotation, and the kernel's refusals (a path through the
-//! folded configuration α → π, a non-finite output, too many substeps); FMI 3.0 also a NULL
-//! output argument. The runs before the refusal move both nodes and end on a step, so the
+//! folded configuration α → π, a non-finite output, too many substeps); FMI 3.0 also each of
+//! its four output arguments NULL. The runs before the refusal move both nodes and end on a step, so the
 //! cache holds that step's outputs, which a fresh evaluation at the same inputs matches only to
 //! round-off (regressions 008 and 009): equality here is bit for bit, no tolerance.
 
@@ -42,8 +42,8 @@ trait Twin {
     fn exit(&self);
     /// DoStep; whether it returned OK.
     fn step(&self, t: f64, h: f64) -> bool;
-    /// FMI 3.0's DoStep with a NULL output argument; None in FMI 2.0.
-    fn step_null_out(&self, t: f64, h: f64) -> Option<bool>;
+    /// FMI 3.0's DoStep with its output argument `k` (0..4) NULL; None in FMI 2.0.
+    fn step_null_out(&self, t: f64, h: f64, k: usize) -> Option<bool>;
     fn terminate(&self);
     fn read(&self) -> Read;
     fn get_state(&self) -> *mut c_void;
@@ -77,7 +77,7 @@ impl Twin for Fmu {
     fn step(&self, t: f64, h: f64) -> bool {
         Fmu::step(self, t, h) == fmi2Status::OK
     }
-    fn step_null_out(&self, _t: f64, _h: f64) -> Option<bool> {
+    fn step_null_out(&self, _t: f64, _h: f64, _k: usize) -> Option<bool> {
         None
     }
     fn terminate(&self) {
@@ -142,17 +142,23 @@ impl Twin for Fmu3 {
     fn step(&self, t: f64, h: f64) -> bool {
         Fmu3::step(self, t, h).0 == OK3
     }
-    fn step_null_out(&self, t: f64, h: f64) -> Option<bool> {
-        let (mut e, mut term, mut last) = (0u8, 0u8, 0.0);
+    fn step_null_out(&self, t: f64, h: f64, k: usize) -> Option<bool> {
+        let (mut e, mut term, mut early, mut last) = (0u8, 0u8, 0u8, 0.0);
+        let or_null = |p: *mut u8, i: usize| if i == k { null_mut() } else { p };
+        let last_p = if k == 3 {
+            null_mut()
+        } else {
+            &mut last as *mut f64
+        };
         let s = fmi3DoStep(
             self.c,
             t,
             h,
             fmi3False,
-            &mut e,
-            &mut term,
-            null_mut(),
-            &mut last,
+            or_null(&mut e, 0),
+            or_null(&mut term, 1),
+            or_null(&mut early, 2),
+            last_p,
         );
         Some(s == OK3)
     }
@@ -352,10 +358,22 @@ fn refusals<F: Twin>() -> Vec<Refusal<F>> {
             ..plain("", |f, t| f.step(t, 0.5))
         },
     ];
-    if F::make(Variant::Bushing).step_null_out(0.0, H).is_some() {
+    if F::make(Variant::Bushing).step_null_out(0.0, H, 0).is_some() {
         r.push(Refusal {
-            what: "a NULL output argument (FMI 3.0)",
-            ..plain("", |f, t| f.step_null_out(t, H).unwrap_or(true))
+            what: "eventHandlingNeeded NULL (FMI 3.0)",
+            ..plain("", |f, t| f.step_null_out(t, H, 0).unwrap_or(true))
+        });
+        r.push(Refusal {
+            what: "terminateSimulation NULL (FMI 3.0)",
+            ..plain("", |f, t| f.step_null_out(t, H, 1).unwrap_or(true))
+        });
+        r.push(Refusal {
+            what: "earlyReturn NULL (FMI 3.0)",
+            ..plain("", |f, t| f.step_null_out(t, H, 2).unwrap_or(true))
+        });
+        r.push(Refusal {
+            what: "lastSuccessfulTime NULL (FMI 3.0)",
+            ..plain("", |f, t| f.step_null_out(t, H, 3).unwrap_or(true))
         });
     }
     r
@@ -423,9 +441,10 @@ fn walk<F: Twin>() -> (usize, usize) {
 
 /// The refusals checked: FMI 2.0's 14 for each of the 5 variants, but α → π where the variant
 /// has no flexion (3 variants) and the overflowing viscous force where it has no translational
-/// component (PROJECTION FLEXION-TORSION); FMI 3.0 also a NULL argument for each variant.
+/// component (PROJECTION FLEXION-TORSION); FMI 3.0 also each of its four output arguments NULL,
+/// for each variant.
 const CHECKED_FMI2: usize = 5 * 14 - 3 - 1;
-const CHECKED_FMI3: usize = CHECKED_FMI2 + 5;
+const CHECKED_FMI3: usize = CHECKED_FMI2 + 4 * 5;
 
 /// The walk checks what it must, and some of it where the cached outputs are not what a fresh
 /// read gives (else it could not tell a cache that a refusal or a restore forgets).
