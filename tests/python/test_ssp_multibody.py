@@ -26,6 +26,8 @@ Tolerances are stated where used.
 from __future__ import annotations
 
 import functools
+import subprocess
+import sys
 import zipfile
 
 import numpy as np
@@ -34,6 +36,7 @@ from fmpy.ssp.ssd import read_ssd
 
 from conftest import REPO
 from sspkit import archive, chain, cli, engine_mount, engine_reference as ref, multibody, structure, tools
+from test_ssp import edited  # a copy of a packaged archive with one entry's text replaced
 
 NAMES = multibody.NAMES
 TOL = 1e-9
@@ -54,18 +57,6 @@ def system(name):
 @functools.lru_cache(maxsize=None)
 def run(tool, name, H, t_end=None):
     return tools.run_multi(tool, ssp(name), system(name), H, t_end)
-
-
-def edited(src, dst, entry, old, new, count=1):
-    """A copy of archive `src` at `dst` with the first `count` `old` replaced by `new` in `entry`."""
-    with zipfile.ZipFile(src) as zin, zipfile.ZipFile(dst, "w") as zout:
-        for item in zin.infolist():
-            data = zin.read(item.filename)
-            if item.filename == entry:
-                assert old.encode() in data, f"{old!r} not in {entry}"
-                data = data.replace(old.encode(), new.encode(), count)
-            zout.writestr(item, data)
-    return dst
 
 
 def difference(a, b, names):
@@ -276,7 +267,7 @@ def test_a_parameter_set_naming_an_unknown_variable_is_refused(tmp_path, capsys)
 
 def test_every_problem_is_listed_one_line_each(tmp_path, capsys):
     a = edited(ssp("chain"), tmp_path / "a.ssp", SSD, 'endConnector="port[2].f[1]"',
-               'endConnector="port[1].f[1]"', 3)
+               'endConnector="port[1].f[1]"')         # all three bodies' port 2 → port 1
     b = edited(a, tmp_path / "b.ssp", "resources/m3.ssv", '"mass"', '"masse"')
     code, lines = refused(b, capsys)
     assert code == 1 and len(lines) == 4, lines        # three doubled inputs, one parameter
@@ -286,7 +277,7 @@ def test_every_problem_is_listed_one_line_each(tmp_path, capsys):
 def test_an_archive_of_ones_own_runs_by_its_path(tmp_path, capsys):
     """The chain renamed (a system no scene knows): checked, run in each tool to its stop time,
     every Real output written; its motion is the packaged scene's."""
-    path = edited(ssp("chain"), tmp_path / "mine.ssp", SSD, 'name="chain"', 'name="my_chain"', 2)
+    path = edited(ssp("chain"), tmp_path / "mine.ssp", SSD, 'name="chain"', 'name="my_chain"')
     assert structure.read(path).name == "my_chain"
     for tool in tools.TOOLS:
         assert cli.main([str(path), "--tool", tool, "--step", "1e-3", "--out", str(tmp_path)]) == 0
@@ -297,3 +288,28 @@ def test_an_archive_of_ones_own_runs_by_its_path(tmp_path, capsys):
         assert len(data) == 1000 and "m2.port[1].v[1]" in data.dtype.names
         scene = run(tool, "chain", 1e-3)
         assert np.array_equal(data["m2.r[1]"], scene["m2.r[1]"][1:])
+
+
+def test_what_the_tools_do_with_two_connections_into_one_input(tmp_path):
+    """Why the check exists (the tools run in a child process, the check off): libcosim refuses
+    the archive, Ecos runs it on the last connection alone and gives another motion, silently."""
+    path = edited(ssp("chain"), tmp_path / "double.ssp", SSD,
+                  'startElement="k2" startConnector="a.f[1]" endElement="m1" endConnector="port[2].f[1]"',
+                  'startElement="k2" startConnector="a.f[1]" endElement="m1" endConnector="port[1].f[1]"')
+    code = ("import sys; sys.path.insert(0, sys.argv[1]); from sspkit import multibody, tools\n"
+            "s = multibody.system('chain')\n"
+            "try:\n"
+            "    r = tools.run_multi(sys.argv[2], sys.argv[3], s, 1e-4, 0.02, check=False)\n"
+            "    print('RAN', r.failed, s.scene.measure(r)['error'])\n"
+            "except tools.ToolError as e:\n"
+            "    print('ERROR', e)\n")
+    verdicts = {}
+    for tool in tools.TOOLS:
+        out = subprocess.run([sys.executable, "-c", code, str(REPO / "scripts"), tool, str(path)],
+                             capture_output=True, text=True, timeout=120)
+        assert out.returncode == 0, out.stderr[-2000:]
+        verdicts[tool] = out.stdout.strip().splitlines()[-1]
+    assert verdicts["libcosim"].startswith("ERROR") and "already connected" in verdicts["libcosim"]
+    ran, failed, error = verdicts["ecos"].split()
+    intact = system("chain").scene.measure(run("ecos", "chain", 1e-4, 0.02))["error"]
+    assert (ran, failed) == ("RAN", "None") and float(error) > 1.5 * intact
