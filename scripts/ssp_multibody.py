@@ -156,7 +156,7 @@ def figure(path):
         b.plot(t[show], 2.0 * i + eta[show, i] / span[i] * 0.8, lw=0.9)
         b.text(0.505, 2.0 * i, f"mode {i + 1}: ω = {w[i]:.3f} rad/s\n(response: {measured[i]:.3f})",
                va="center", fontsize=8)
-    b.set_xlim(0.0, 0.72)
+    b.set_xlim(0.0, 0.78)
     b.set_yticks([])
     b.set_xlabel("t (s)")
     b.set_title("its modal coordinates φᵢᵀ M (δr, δθ), each scaled")
