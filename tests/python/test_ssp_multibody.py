@@ -313,3 +313,17 @@ def test_what_the_tools_do_with_two_connections_into_one_input(tmp_path):
     ran, failed, error = verdicts["ecos"].split()
     intact = system("chain").scene.measure(run("ecos", "chain", 1e-4, 0.02))["error"]
     assert (ran, failed) == ("RAN", "None") and float(error) > 1.5 * intact
+
+
+def test_a_declared_connector_the_fmu_lacks_and_a_missing_fmu_are_refused(tmp_path):
+    path = edited(ssp("engine_mount"), tmp_path / "decl.ssp", SSD,
+                  '<ssd:Connector name="port[4].f[2]"', '<ssd:Connector name="port[4].g[2]"')
+    assert structure.problems(path) == [f"{c}: declares the connector 'port[4].g[2]', which is no "
+                                        "variable of Body.fmu" for c in ("ground", "block")]
+    gone = tmp_path / "gone.ssp"
+    with zipfile.ZipFile(ssp("chain")) as zin, zipfile.ZipFile(gone, "w") as zout:
+        for item in zin.infolist():
+            if item.filename != "resources/ProjectionCartesian.fmu":
+                zout.writestr(item, zin.read(item.filename))
+    assert structure.problems(gone) == [f"k{j}: its FMU resources/ProjectionCartesian.fmu is not in the archive"
+                                        for j in (1, 2, 3, 4)]
