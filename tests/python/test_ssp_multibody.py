@@ -36,17 +36,11 @@ from fmpy.ssp.ssd import read_ssd
 
 from conftest import REPO
 from sspkit import archive, chain, cli, engine_mount, engine_reference as ref, multibody, structure, tools
-from test_ssp import edited  # a copy of a packaged archive with one entry's text replaced
+# edited: a copy of an archive with one entry's text replaced; ssp: dist/ssp/<scene>.ssp
+from test_ssp import edited, ssp
 
 NAMES = multibody.NAMES
 TOL = 1e-9
-
-
-def ssp(name):
-    path = REPO / "dist" / "ssp" / f"{name}.ssp"
-    if not path.is_file():
-        pytest.fail(f"{path.relative_to(REPO)} is missing: run ./scripts/run first", pytrace=False)
-    return path
 
 
 @functools.lru_cache(maxsize=None)
