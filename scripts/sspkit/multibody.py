@@ -19,7 +19,7 @@ Uses numpy and systems.py (Component, System); tools.py runs them, archive.py pa
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -84,7 +84,6 @@ class MultiScene:
     name: str = ""
     t_end: float = 1.0
     error_label: str = "error"
-    record: tuple = field(default=())          # (systems.System users read scene.record)
 
     def system(self):
         comps = self.components()
