@@ -28,6 +28,14 @@ pub enum Out {
     V(usize),
     /// angular velocity w[i] (rad/s, W)
     W(usize),
+    /// port k's (0-based) point r[i] (m, W)
+    PortR(usize, usize),
+    /// port k's frame orientation component (port → W; 0 = w, 1..3 = x, y, z)
+    PortQ(usize, usize),
+    /// port k's point velocity v[i] (m/s, W)
+    PortV(usize, usize),
+    /// port k's angular velocity w[i] (rad/s, W): the body's
+    PortW(usize, usize),
     /// kinetic energy (J)
     Kinetic,
     /// potential energy (J)
@@ -120,9 +128,24 @@ pub mod real {
     pub const F: usize = 24;
     /// m[1..3] (input)
     pub const M: usize = 27;
+    /// port 1's first slot; port k (1-based) starts at PORT + (k − 1)·PORT_LEN
+    pub const PORT: usize = 30;
+    /// within a port: offset.r[1..3]
+    pub const PORT_OFFSET_R: usize = 0;
+    /// within a port: offset.q.w, .x, .y, .z
+    pub const PORT_OFFSET_Q: usize = 3;
+    /// within a port: f[1..3] (input)
+    pub const PORT_F: usize = 7;
+    /// within a port: m[1..3] (input)
+    pub const PORT_M: usize = 10;
+    /// slots per port
+    pub const PORT_LEN: usize = 13;
     /// number of Real slots
-    pub const N: usize = 30;
+    pub const N: usize = PORT + super::PORTS * PORT_LEN;
 }
+
+/// Number of load ports, `port[1]` … `port[4]`.
+pub const PORTS: usize = 4;
 
 /// Slots of the Integer parameters.
 pub mod int {
@@ -213,8 +236,91 @@ const fn output(vr: u32, name: &'static str, out: Out, unit: &'static str, d: &'
 
 use real::*;
 
-/// Every variable, in value-reference order (the order of the model descriptions).
-pub static VARS: [Var; 52] = [
+/// Rows of the body's own variables (value references 1–551).
+const BODY_ROWS: usize = 52;
+/// Rows of one port.
+const PORT_ROWS: usize = 26;
+
+/// The 26 rows of port `$k` (1-based), value references `$base` + 1…6 (inputs f, m), + 101…113
+/// (outputs r, q, v, w), + 501…507 (parameters offset.r, offset.q): the body's own numbering
+/// moved up by `$base`.
+#[rustfmt::skip]
+macro_rules! port_rows {
+    ($k:literal, $base:literal) => {{
+        const S: usize = real::PORT + ($k - 1) * real::PORT_LEN;
+        const K: usize = $k - 1;
+        const FF: usize = S + real::PORT_F;
+        const MM: usize = S + real::PORT_M;
+        const OR: usize = S + real::PORT_OFFSET_R;
+        const OQ: usize = S + real::PORT_OFFSET_Q;
+        [
+            input($base + 1, concat!("port[", $k, "].f[1]"), FF, "N", concat!("force on the body at port ", $k, "'s point, world x")),
+            input($base + 2, concat!("port[", $k, "].f[2]"), FF + 1, "N", concat!("force on the body at port ", $k, "'s point, world y")),
+            input($base + 3, concat!("port[", $k, "].f[3]"), FF + 2, "N", concat!("force on the body at port ", $k, "'s point, world z")),
+            input($base + 4, concat!("port[", $k, "].m[1]"), MM, "N.m", concat!("moment on the body at port ", $k, ", world x")),
+            input($base + 5, concat!("port[", $k, "].m[2]"), MM + 1, "N.m", concat!("moment on the body at port ", $k, ", world y")),
+            input($base + 6, concat!("port[", $k, "].m[3]"), MM + 2, "N.m", concat!("moment on the body at port ", $k, ", world z")),
+            output($base + 101, concat!("port[", $k, "].r[1]"), Out::PortR(K, 0), "m", concat!("position of port ", $k, "'s point, world x")),
+            output($base + 102, concat!("port[", $k, "].r[2]"), Out::PortR(K, 1), "m", concat!("position of port ", $k, "'s point, world y")),
+            output($base + 103, concat!("port[", $k, "].r[3]"), Out::PortR(K, 2), "m", concat!("position of port ", $k, "'s point, world z")),
+            output($base + 104, concat!("port[", $k, "].q.w"), Out::PortQ(K, 0), "", concat!("orientation port ", $k, " -> world, unit quaternion, scalar part")),
+            output($base + 105, concat!("port[", $k, "].q.x"), Out::PortQ(K, 1), "", concat!("orientation port ", $k, " -> world, unit quaternion, x")),
+            output($base + 106, concat!("port[", $k, "].q.y"), Out::PortQ(K, 2), "", concat!("orientation port ", $k, " -> world, unit quaternion, y")),
+            output($base + 107, concat!("port[", $k, "].q.z"), Out::PortQ(K, 3), "", concat!("orientation port ", $k, " -> world, unit quaternion, z")),
+            output($base + 108, concat!("port[", $k, "].v[1]"), Out::PortV(K, 0), "m/s", concat!("velocity of port ", $k, "'s point, world x")),
+            output($base + 109, concat!("port[", $k, "].v[2]"), Out::PortV(K, 1), "m/s", concat!("velocity of port ", $k, "'s point, world y")),
+            output($base + 110, concat!("port[", $k, "].v[3]"), Out::PortV(K, 2), "m/s", concat!("velocity of port ", $k, "'s point, world z")),
+            output($base + 111, concat!("port[", $k, "].w[1]"), Out::PortW(K, 0), "rad/s", concat!("angular velocity of port ", $k, " (the body's), world x")),
+            output($base + 112, concat!("port[", $k, "].w[2]"), Out::PortW(K, 1), "rad/s", concat!("angular velocity of port ", $k, " (the body's), world y")),
+            output($base + 113, concat!("port[", $k, "].w[3]"), Out::PortW(K, 2), "rad/s", concat!("angular velocity of port ", $k, " (the body's), world z")),
+            par($base + 501, concat!("port[", $k, "].offset.r[1]"), OR, 0.0, "m", ANY, concat!("port ", $k, "'s point in the body frame (from the centre of mass), axis 1")),
+            par($base + 502, concat!("port[", $k, "].offset.r[2]"), OR + 1, 0.0, "m", ANY, concat!("port ", $k, "'s point in the body frame (from the centre of mass), axis 2")),
+            par($base + 503, concat!("port[", $k, "].offset.r[3]"), OR + 2, 0.0, "m", ANY, concat!("port ", $k, "'s point in the body frame (from the centre of mass), axis 3")),
+            par($base + 504, concat!("port[", $k, "].offset.q.w"), OQ, 1.0, "", ANY, concat!("port ", $k, "'s frame -> body frame (normalised), scalar part")),
+            par($base + 505, concat!("port[", $k, "].offset.q.x"), OQ + 1, 0.0, "", ANY, concat!("port ", $k, "'s frame -> body frame (normalised), x")),
+            par($base + 506, concat!("port[", $k, "].offset.q.y"), OQ + 2, 0.0, "", ANY, concat!("port ", $k, "'s frame -> body frame (normalised), y")),
+            par($base + 507, concat!("port[", $k, "].offset.q.z"), OQ + 3, 0.0, "", ANY, concat!("port ", $k, "'s frame -> body frame (normalised), z")),
+        ]
+    }};
+}
+
+/// Every variable, in value-reference order (the order of the model descriptions): the body's
+/// own, then port 1's (value references 1001–1507), port 2's (2001–2507), … port 4's.
+pub static VARS: [Var; BODY_ROWS + PORTS * PORT_ROWS] = join(
+    &BODY,
+    &[
+        port_rows!(1, 1000),
+        port_rows!(2, 2000),
+        port_rows!(3, 3000),
+        port_rows!(4, 4000),
+    ],
+);
+
+/// The body's own rows followed by the ports' (a const copy: the table stays one static).
+const fn join(
+    body: &[Var; BODY_ROWS],
+    ports: &[[Var; PORT_ROWS]; PORTS],
+) -> [Var; BODY_ROWS + PORTS * PORT_ROWS] {
+    let mut out = [body[0]; BODY_ROWS + PORTS * PORT_ROWS];
+    let mut i = 0;
+    while i < BODY_ROWS {
+        out[i] = body[i];
+        i += 1;
+    }
+    let mut k = 0;
+    while k < PORTS {
+        let mut j = 0;
+        while j < PORT_ROWS {
+            out[BODY_ROWS + k * PORT_ROWS + j] = ports[k][j];
+            j += 1;
+        }
+        k += 1;
+    }
+    out
+}
+
+/// The body's own rows: centre-of-mass load, state outputs, energies, parameters.
+const BODY: [Var; BODY_ROWS] = [
     input(1, "f[1]", F, "N", "force on the body at its centre of mass, world x"),
     input(2, "f[2]", F + 1, "N", "force on the body at its centre of mass, world y"),
     input(3, "f[3]", F + 2, "N", "force on the body at its centre of mass, world z"),

@@ -1,7 +1,8 @@
 //! The FMI 3.0 functions of the Body FMU called as an importer calls them: the lifecycle and
 //! `time`, variable dependencies, refused instantiations, every function of what the FMU does
 //! not have answering fmi3Error with one message, and the FMI 3.0 outputs equal to the FMI 2.0
-//! ones bit for bit over random loads and steps in both models. Uses `common` and the crate's
+//! ones bit for bit over random loads and steps in both models (the own loads and two ports'
+//! at random offsets; the ports' outputs too). Uses `common` and the crate's
 //! exports.
 
 mod common;
@@ -247,10 +248,32 @@ fn twins(model: i32, seed: u64) -> usize {
             "{n}"
         );
     }
+    // ports 1 and 3 at random offsets and frames, loaded every step below
+    for k in [1, 3] {
+        let offsets = ["r[1]", "r[2]", "r[3]", "q.w", "q.x", "q.y", "q.z"];
+        for o in offsets {
+            let n = format!("port[{k}].offset.{o}");
+            let x = rng.range(-0.5, 0.5) + if o == "q.w" { 1.0 } else { 0.0 };
+            assert_eq!(
+                (f2.set(&n, x), f3.set(&n, x)),
+                (fmi2Status::OK, fmi3Status::OK)
+            );
+        }
+    }
+    let port_outputs = |get: &dyn Fn(&str) -> f64| -> Vec<u64> {
+        let mut out = Vec::new();
+        for k in 1..=4 {
+            for o in PORT_OUTPUTS {
+                out.push(get(&format!("port[{k}].{o}")).to_bits());
+            }
+        }
+        out
+    };
     assert_eq!(
         f2.outputs().map(f64::to_bits),
         f3.outputs().map(f64::to_bits)
     );
+    assert_eq!(port_outputs(&|n| f2.get(n)), port_outputs(&|n| f3.get(n)));
     let exit2 = body_fmu::fmi2::exports::fmi2ExitInitializationMode(f2.c);
     assert_eq!(
         (exit2, fmi3ExitInitializationMode(f3.c)),
@@ -265,6 +288,16 @@ fn twins(model: i32, seed: u64) -> usize {
                 (fmi2Status::OK, fmi3Status::OK)
             );
         }
+        for k in [1, 3] {
+            for l in ["f[1]", "f[2]", "f[3]", "m[1]", "m[2]", "m[3]"] {
+                let n = format!("port[{k}].{l}");
+                let x = rng.range(-2.0, 2.0);
+                assert_eq!(
+                    (f2.set(&n, x), f3.set(&n, x)),
+                    (fmi2Status::OK, fmi3Status::OK)
+                );
+            }
+        }
         let h = rng.range(1e-4, 2e-2);
         f2.step(h);
         f3.step(h);
@@ -272,10 +305,17 @@ fn twins(model: i32, seed: u64) -> usize {
             f2.outputs().map(f64::to_bits),
             f3.outputs().map(f64::to_bits)
         );
+        assert_eq!(port_outputs(&|n| f2.get(n)), port_outputs(&|n| f3.get(n)));
         steps += 1;
     }
     steps
 }
+
+/// The outputs of each port, behind `port[k].`.
+const PORT_OUTPUTS: [&str; 13] = [
+    "r[1]", "r[2]", "r[3]", "q.w", "q.x", "q.y", "q.z", "v[1]", "v[2]", "v[3]", "w[1]", "w[2]",
+    "w[3]",
+];
 
 #[test]
 fn fmi3_outputs_equal_fmi2_outputs_bit_for_bit() {

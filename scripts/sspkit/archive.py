@@ -8,14 +8,15 @@ SSV files are made with pyssp-standard and validated against the SSP 1.0 schema 
 (`validate`). The zip entries carry fixed dates, and the SSD the commit time, so the same commit
 packages the same archive.
 
-`check(path, system)` reads an archive back and refuses, with a message naming what is wrong, a
-connection whose endpoint is not a variable of that causality in the component's FMU, a
-parameter that names no parameter of the FMU, and a parameter the scene needs that the archive
-leaves out or sets differently: libcosim only warns about a parameter it cannot apply, and an
-omitted one would silently keep the FMU's default.
+`check(path, system)` reads an archive back and refuses, with a message naming what is wrong,
+what structure.py finds (using the archive's own FMUs: a connection whose endpoint is not a
+variable of that causality, two connections into one input, a parameter that names no parameter
+of the FMU) and a parameter or connection the scene needs that the archive leaves out or sets
+differently: libcosim only warns about a parameter it cannot apply, and an omitted one would
+silently keep the FMU's default.
 
-Uses pyssp_standard, lxml (via it), xmlschema and systems.py; package.py for the reproducible
-zip entries and the commit date.
+Uses pyssp_standard, lxml (via it), xmlschema, structure.py and systems.py; package.py for the
+reproducible zip entries and the commit date.
 """
 from __future__ import annotations
 
@@ -34,7 +35,7 @@ from pyssp_standard.standard import ModelicaStandard
 import package
 from cosim.connectors import DIST
 
-from . import systems
+from . import structure, systems
 
 SSD_NAME = "SystemStructure.ssd"
 FMU_TYPE = "application/x-fmu-sharedlibrary"
@@ -45,8 +46,9 @@ NS = {k: ModelicaStandard.namespaces[k] for k in ("ssd", "ssv", "ssc")}
 GENERATOR = "connector-fmu scripts/package_ssp.py (pyssp-standard)"
 
 
-class ArchiveError(ValueError):
-    """An archive that does not fit its FMUs or its scene; the message says where."""
+# An archive that does not fit its FMUs or its scene; the message says where (one class with
+# structure.py's, so that a caller catches both).
+ArchiveError = structure.StructureError
 
 
 def text(value):
@@ -180,25 +182,10 @@ def read(path):
 
 def check(path, system):
     """Refuse (ArchiveError, every problem listed) an archive whose connections or parameters do
-    not fit its FMUs, or whose parameter values are not the scene's (`system`)."""
+    not fit its FMUs (structure.problems), or whose parameter values and connections are not
+    the scene's (`system`)."""
+    problems = structure.problems(path)
     comps, conns = read(path)
-    problems = []
-    for s, o, e, i in conns:
-        for comp, var, want in ((s, o, "output"), (e, i, "input")):
-            if comp not in comps:
-                problems.append(f"connection {s}.{o} -> {e}.{i}: no component {comp!r}")
-                continue
-            v = systems.variables(comps[comp][0]).get(var)
-            if v is None:
-                problems.append(f"connection {s}.{o} -> {e}.{i}: {comps[comp][0]}.fmu has no variable {var!r}")
-            elif v.causality != want:
-                problems.append(f"connection {s}.{o} -> {e}.{i}: {var!r} of {comps[comp][0]}.fmu is "
-                                f"an {v.causality}, not an {want}")
-    for name, (model, params) in comps.items():
-        vs = systems.variables(model)
-        for p in params:
-            if p not in vs or vs[p].causality != "parameter":
-                problems.append(f"{name}: the parameter set names {p!r}, which is no parameter of {model}.fmu")
     for comp in system.components:
         have = comps.get(comp.name, (None, {}))[1]
         for p, value in comp.params.items():

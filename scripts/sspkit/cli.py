@@ -1,13 +1,21 @@
-"""./scripts/ssp SCENE --tool libcosim|ecos [--step H] [--out DIR] [--compare]: run the scene's SSP
-archive (dist/ssp/<scene>.ssp, from ./scripts/run) in a third-party master, write the result CSV
-(time and the body's state outputs, plus the outputs the scene monitors) to
-DIR/<scene>_<tool>_<H>.csv, and print the scene's error against its reference (the scene's own
-`measure`, scripts/cosim/scenes.py) and the CPU time per simulated second. The archive is checked
-against its FMUs and its scene first (tools.run → archive.check): a broken connection or a wrong
-or missing parameter stops the run with a message. --compare also runs our master's `jacobi` on the tool's
-time grid and on its own and prints the largest relative differences.
+"""./scripts/ssp SCENE|ARCHIVE --tool libcosim|ecos [--step H] [--out DIR] [--compare]: run an SSP
+archive in a third-party master. SCENE is one of the packaged scenes (its archive
+dist/ssp/<scene>.ssp, from ./scripts/run); ARCHIVE is the path of any .ssp file.
 
-Uses argparse, numpy and the package's modules (systems, archive, tools, compare).
+Before a tool runs anything the archive's structure is checked against the FMUs inside it
+(structure.py): two connections into one input, a connection to a variable the FMU does not
+have, an output connected to an output (or an input to an input), a parameter set naming an
+unknown variable; each problem is one line naming the connection or the element, and the exit
+status is 1. A scene's archive (or an ARCHIVE whose system is named as a scene) is also
+checked against the scene (archive.check: its parameter values and connections).
+
+A scene's run writes DIR/<scene>_<tool>_<H>.csv (time and the outputs the scene samples) and
+prints its error against its reference (the scene's own `measure`: scripts/cosim/scenes.py,
+or chain.py and engine_mount.py) and the CPU time per simulated second. Any other archive runs
+to its DefaultExperiment's stop time and writes DIR/<system>_<tool>_<H>.csv with every Real
+output of every component, from t = H (libcosim shows nothing at t = 0). --compare (one-body
+scenes) also runs our master's `jacobi` on the tool's time grid and on its own and prints the
+largest relative differences.
 """
 from __future__ import annotations
 
@@ -20,7 +28,7 @@ import numpy as np
 from cosim import master
 from cosim.connectors import DIST, REPO
 
-from . import archive, compare, systems, tools
+from . import archive, compare, multibody, structure, systems, tools
 
 SSP_DIR = DIST / "ssp"
 
@@ -45,36 +53,100 @@ def write_csv(path, system, res):
     return path
 
 
+def write_samples(path, run):
+    """time, then one column per sampled "component.variable"."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    np.savetxt(path, np.column_stack([run.t] + list(run.samples.values())), delimiter=",",
+               header=",".join(["time"] + list(run.samples)), comments="", fmt="%.17g")
+    return path
+
+
+def stop_time(path):
+    """The DefaultExperiment's stopTime of an archive (SystemExit when it has none)."""
+    import zipfile
+    from lxml import etree as ET
+    with zipfile.ZipFile(path) as zf:
+        exp = ET.fromstring(zf.read(structure.SSD_NAME)).find("ssd:DefaultExperiment", structure.NS)
+    if exp is None or exp.get("stopTime") is None:
+        raise SystemExit(f"error: {path}: no DefaultExperiment stopTime; the run needs an end")
+    return float(exp.get("stopTime"))
+
+
+def run_archive(args, path, info):
+    """Any archive: every Real output of every component, to its stop time."""
+    probes = [(name, v.name) for name, el in info.components.items()
+              for v in info.variables[el.source].values()
+              if v.causality == "output" and v.type in ("Real", "Float64")]
+    t_end = stop_time(path)
+    n = tools.steps(args.step, t_end)
+    sets = info.parameter_sets or [systems.PARAMETER_SET]
+    t, rows, cpu, failed = tools.run_probes(args.tool, path, probes, args.step, n, parameter_set=sets[0])
+    run = multibody.Run(t=t, samples={f"{c}.{v}": rows[:, j] for j, (c, v) in enumerate(probes)}, cpu=cpu)
+    csv = write_samples(args.out / f"{info.name}_{args.tool}_{args.step:g}.csv", run)
+    print(f"{info.name} in {args.tool}, H = {args.step:g} s, {len(t)} steps: wrote {csv}")
+    if failed:
+        print(f"error: the run failed: {failed}", file=sys.stderr)
+        return 1
+    print(f"CPU   = {cpu / t_end:.4g} s per simulated second (stepping and sampling, {cpu:.3g} s)")
+    return 0
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="./scripts/ssp", description=__doc__.split("\n\n")[0])
-    ap.add_argument("scene", choices=systems.NAMES)
+    ap.add_argument("scene", metavar="SCENE|ARCHIVE",
+                    help=f"a scene ({', '.join(multibody.ALL)}) or the path of an .ssp archive")
     ap.add_argument("--tool", choices=tools.TOOLS, required=True)
     ap.add_argument("--step", type=float, default=1e-3, metavar="H", help="communication step, s (default 1e-3)")
     ap.add_argument("--out", type=Path, default=REPO / "out" / "ssp", metavar="DIR",
                     help="where the CSV goes (default out/ssp)")
     ap.add_argument("--ssp", type=Path, help="another archive of the scene (default dist/ssp/<scene>.ssp)")
     ap.add_argument("--compare", action="store_true",
-                    help="also print the relative difference to our master's jacobi")
+                    help="also print the relative difference to our master's jacobi (one-body scenes)")
     args = ap.parse_args(argv)
 
-    system = systems.system(args.scene)
-    scene = system.scene
-    path = args.ssp or archive_path(args.scene)
+    if args.scene in multibody.ALL:
+        name, path = args.scene, args.ssp or archive_path(args.scene)
+    elif Path(args.scene).is_file():
+        path = Path(args.scene)
+        name = None
+    else:
+        ap.error(f"{args.scene!r} is neither a scene ({', '.join(multibody.ALL)}) nor an archive's path")
     try:
-        res = tools.run(args.tool, path, system, args.step)
+        info = structure.check(path)
+    except structure.StructureError as e:
+        print(f"error: the archive cannot work:\n{e}", file=sys.stderr)
+        return 1
+    except (OSError, KeyError, ValueError) as e:
+        print(f"error: {path}: not an SSP archive: {e}", file=sys.stderr)
+        return 1
+    name = name or (info.name if info.name in multibody.ALL else None)
+    if name is None:
+        try:
+            return run_archive(args, path, info)
+        except (tools.ToolError, ValueError) as e:
+            print(f"error: {e}", file=sys.stderr)
+            return 1
+    system = multibody.system(name)
+    scene = system.scene
+    multi = name in multibody.NAMES
+    try:
+        res = (tools.run_multi if multi else tools.run)(args.tool, path, system, args.step)
     except (archive.ArchiveError, tools.ToolError, ValueError) as e:
         print(f"error: {e}", file=sys.stderr)
         return 1
-    csv = write_csv(args.out / f"{args.scene}_{args.tool}_{args.step:g}.csv", system, res)
-    print(f"{args.scene} in {args.tool}, H = {args.step:g} s, {res.steps} steps: wrote {csv}")
+    csv = args.out / f"{name}_{args.tool}_{args.step:g}.csv"
+    csv = write_samples(csv, res) if multi else write_csv(csv, system, res)
+    print(f"{name} in {args.tool}, H = {args.step:g} s, {res.steps} steps: wrote {csv}")
     if res.failed:
         print(f"error: the run failed: {res.failed}", file=sys.stderr)
         return 1
     figures = scene.measure(res)
     print(f"error = {figures['error']:.4g}   ({scene.error_label.replace(chr(10), ' ')})")
+    if figures.get("energy") is not None:
+        print(f"energy error = {figures['energy']:.4g}   (max |E - E0| / E0)")
     print(f"CPU   = {res.cpu / (res.t[-1] - res.t[0]):.4g} s per simulated second "
           f"(stepping and sampling, {res.cpu:.3g} s)")
-    if args.compare:
+    if args.compare and not multi:
         on_grid = compare.master_as_tool(scene, "jacobi", args.tool, args.step)
         own = master.simulate(scene, "jacobi", args.step)
         print(f"max relative difference to our master's jacobi: {compare.difference(res, on_grid):.3g} "

@@ -27,7 +27,7 @@ import numpy as np
 from cosim import master
 from cosim.connectors import Connector
 
-from . import archive, systems
+from . import archive, multibody, systems
 
 TOOLS = ("libcosim", "ecos")
 
@@ -64,7 +64,7 @@ def nanoseconds(H):
     return ns
 
 
-def _libcosim(path, system, H, n, names, native):
+def _libcosim(path, probes, H, n, start_row, native, parameter_set=None):
     from libcosimpy.CosimExecution import CosimExecution
     from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
     from libcosimpy.CosimObserver import CosimObserver
@@ -75,30 +75,39 @@ def _libcosim(path, system, H, n, names, native):
         ex = CosimExecution.from_ssp_file(str(path), nanoseconds(H))
     except AssertionError:
         raise ToolError(f"libcosim: {get_last_error_message()}") from None
-    index = {s.name.decode(): s.index for s in ex.slave_infos()}[system.body]
-    refs = {v.name.decode(): v.reference for v in ex.slave_variables(index)}
+    index = {s.name.decode(): s.index for s in ex.slave_infos()}
+    groups = {}                      # component → (slave index, [value references], [columns])
+    for j, (comp, var) in enumerate(probes):
+        if comp not in groups:
+            groups[comp] = (index[comp], {v.name.decode(): v.reference for v in ex.slave_variables(index[comp])},
+                            [], [])
+        groups[comp][2].append(groups[comp][1][var])
+        groups[comp][3].append(j)
     observer = CosimObserver.create_last_value()
     ex.add_observer(observer)
-    vrs = [refs[n_] for n_ in names]
-    # libcosim initialises at its first step: the sample at t = 0 is the Body's start parameters
-    start = system.component(system.body).params
-    rows = [[start.get("start." + n_, 0.0) for n_ in names]]
+    # libcosim initialises at its first step: the sample at t = 0 is the start parameters
+    rows = [] if start_row is None else [list(start_row)]
     clock, failed = time.process_time(), None
     if native:
         if not ex.step(n):
             failed = f"libcosim: {get_last_error_message()}"
     else:
+        row = [0.0] * len(probes)
         for k in range(n):
             if not ex.step(1):
                 failed = f"t = {k * H:g}: libcosim: {get_last_error_message()}"
                 break
-            rows.append(observer.last_real_values(index, vrs))
+            for i, _, vrs, cols in groups.values():
+                for c, x in zip(cols, observer.last_real_values(i, vrs)):
+                    row[c] = x
+            rows.append(list(row))
     cpu = time.process_time() - clock
-    t = np.array([(k * nanoseconds(H)) / 1e9 for k in range(len(rows))])
-    return t, np.array(rows), cpu, failed
+    first = 0 if start_row is not None else 1
+    t = np.array([(k * nanoseconds(H)) / 1e9 for k in range(first, first + len(rows))])
+    return t, np.array(rows).reshape(len(rows), len(probes)), cpu, failed
 
 
-def _ecos(path, system, H, n, names, native):
+def _ecos(path, probes, H, n, start_row, native, parameter_set=systems.PARAMETER_SET):
     from ecospy.EcosSimulation import EcosSimulation
     from ecospy.lib import EcosLib
 
@@ -108,10 +117,12 @@ def _ecos(path, system, H, n, names, native):
     except Exception as e:                  # ecospy raises a bare Exception with Ecos's message
         raise ToolError(f"Ecos: {e}") from None
     try:
-        if not sim.init(parameter_set=systems.PARAMETER_SET):
+        if not sim.init(parameter_set=parameter_set):
             raise ToolError(f"Ecos: init: {EcosLib.get_last_error()}")
-        ids = [f"{system.body}::{n_}" for n_ in names]
-        rows, t = [[sim.get_real(i) for i in ids]], [sim.get_time()]
+        ids = [f"{comp}::{var}" for comp, var in probes]
+        rows, t = [], []
+        if start_row is not None:
+            rows, t = [[sim.get_real(i) for i in ids]], [sim.get_time()]
         clock, failed = time.process_time(), None
         if native:
             sim.step(n)
@@ -126,7 +137,31 @@ def _ecos(path, system, H, n, names, native):
         sim.terminate()
     finally:
         sim.free()
-    return np.array(t), np.array(rows), cpu, failed
+    return np.array(t), np.array(rows).reshape(len(rows), len(probes)), cpu, failed
+
+
+def run_probes(tool, path, probes, H, n, start_row=None, native=False,
+               parameter_set=systems.PARAMETER_SET):
+    """Run archive `path` in `tool`, n steps of H, sampling the Real outputs `probes`
+    [(component, variable)] after every step: (t, rows, cpu, failed). With `start_row` (the
+    values at t = 0, which libcosim cannot show before its first step) the first row is t = 0;
+    without it the rows start at t = H in both tools. `parameter_set`: the name Ecos's init is
+    given (libcosim applies each component's first set itself)."""
+    if tool not in RUNNERS:
+        raise ValueError(f"unknown tool {tool!r}; there are: {', '.join(TOOLS)}")
+    return RUNNERS[tool](path, probes, H, n, start_row, native, parameter_set)
+
+
+def run_multi(tool, path, system, H, t_end=None, native=False, check=True):
+    """A multi-body scene's archive (multibody.py) in `tool`: a multibody.Run of the scene's
+    probes from t = 0, the archive checked first as `run` does."""
+    if check:
+        archive.check(path, system)
+    scene = system.scene
+    n = steps(H, scene.t_end if t_end is None else t_end)
+    t, rows, cpu, failed = run_probes(tool, path, scene.probes, H, n, scene.start_row(system), native)
+    samples = {f"{c}.{v}": rows[:, j] for j, (c, v) in enumerate(scene.probes)}
+    return multibody.Run(t=t, samples=samples, cpu=cpu, steps=len(t) - 1, failed=failed, H=H, method=tool)
 
 
 RUNNERS = {"libcosim": _libcosim, "ecos": _ecos}
@@ -148,7 +183,9 @@ def run(tool, path, system, H, t_end=None, native=False, check=True):
     n = steps(H, t_end)
     body = scene.body()
     names = systems.state_outputs(body)
-    t, rows, cpu, failed = RUNNERS[tool](path, system, H, n, names, native)
+    start = system.component(system.body).params
+    t, rows, cpu, failed = run_probes(tool, path, [(system.body, x) for x in names], H, n,
+                                      [start.get("start." + x, 0.0) for x in names], native)
     samples = {name: rows[:, j] for j, name in enumerate(names)}
     p, u = systems.to_state(body, samples)
     extra = monitored(scene, t, p, u) if scene.record and not native else np.empty((len(t), 0))

@@ -1,8 +1,9 @@
 //! The data of one instance, everything an FMU state holds (FMI mode, time, parameters,
-//! inputs, the body), and how the physics sees it (parameters and load). Uses
+//! inputs, the body), and how the physics sees it (parameters, and the load summed from the
+//! own inputs and the ports'). Uses
 //! `crate::variables` (slots, start values) and `crate::physics`'s types.
 
-use crate::physics::{Body, Dof, Load, Model, Params};
+use crate::physics::{ports, Body, Dof, Load, Model, Params, Port, PORTS};
 use crate::variables::{int, real, start_values};
 
 /// The FMI state of an instance.
@@ -105,15 +106,32 @@ impl Data {
             start_v: v3(START_V),
             start_w: v3(START_W),
             max_turn: r[MAX_TURN],
+            ports: std::array::from_fn(|k| {
+                let s = PORT + k * PORT_LEN;
+                Port {
+                    offset_r: v3(s + PORT_OFFSET_R),
+                    offset_q: std::array::from_fn(|i| r[s + PORT_OFFSET_Q + i]),
+                }
+            }),
         }
     }
 
-    /// The inputs as the load held over the next step.
-    pub(crate) fn load(&self) -> Load {
+    /// The load held over the next step from the body at its start: the own inputs `f`, `m`
+    /// and every port's, summed about the centre of mass (`physics::ports::total`).
+    pub(crate) fn load(&self, p: &Params) -> Load {
         let r = &self.reals;
-        Load {
-            f: [r[real::F], r[real::F + 1], r[real::F + 2]],
-            m: [r[real::M], r[real::M + 1], r[real::M + 2]],
-        }
+        let v3 = |i: usize| [r[i], r[i + 1], r[i + 2]];
+        let own = Load {
+            f: v3(real::F),
+            m: v3(real::M),
+        };
+        let port_loads: [Load; PORTS] = std::array::from_fn(|k| {
+            let s = real::PORT + k * real::PORT_LEN;
+            Load {
+                f: v3(s + real::PORT_F),
+                m: v3(s + real::PORT_M),
+            }
+        });
+        ports::total(&self.body, &p.ports, &own, &port_loads)
     }
 }

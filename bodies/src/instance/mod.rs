@@ -219,7 +219,8 @@ impl Instance {
             )));
         }
         let d = &self.data;
-        let body = physics::step(&d.params(), &d.body, &d.load(), end - d.start_time, h)
+        let params = d.params();
+        let body = physics::step(&params, &d.body, &d.load(&params), end - d.start_time, h)
             .map_err(FmuError::error)?;
         self.data.body = body;
         self.data.time = end;

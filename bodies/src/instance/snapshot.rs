@@ -12,7 +12,7 @@ use crate::variables::{fnv1a, int, real, Slot, VARS};
 /// The first bytes of every serialized state.
 pub const MAGIC: &[u8; 8] = b"BODYFMU\0";
 /// The format version; bytes of another version are refused.
-pub const FORMAT_VERSION: u32 = 1;
+pub const FORMAT_VERSION: u32 = 2;
 /// The FNV-1a offset basis of the checksum.
 const CHECKSUM_SEED: u64 = 0xcbf2_9ce4_8422_2325;
 /// Number of f64 in the body.

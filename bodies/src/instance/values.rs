@@ -7,7 +7,7 @@
 use super::data::Mode;
 use super::{Call, FmiVersion, Instance};
 use crate::error::{FmuError, FmuResult};
-use crate::physics::{self, Body};
+use crate::physics::{self, ports, Body};
 use crate::variables::{by_vr, Causality, Out, Slot, Var, TIME_VR};
 
 /// What a value reference is, for an access of Reals (`integer == false`) or Integers.
@@ -197,6 +197,10 @@ fn output(p: &physics::Params, b: &Body, out: Out) -> f64 {
         Out::Q(i) => b.q[i],
         Out::V(i) => b.v[i],
         Out::W(i) => b.w[i],
+        Out::PortR(k, i) => ports::kinematics(b, &p.ports[k]).r[i],
+        Out::PortQ(k, i) => ports::kinematics(b, &p.ports[k]).q[i],
+        Out::PortV(k, i) => ports::kinematics(b, &p.ports[k]).v[i],
+        Out::PortW(k, i) => ports::kinematics(b, &p.ports[k]).w[i],
         Out::Kinetic => physics::energies(p, b).0,
         Out::Potential => physics::energies(p, b).1,
     }

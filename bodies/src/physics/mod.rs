@@ -1,17 +1,20 @@
 //! The body's motion, pure Rust on plain data (no FMI types, no logging, no allocation per
 //! step): the parameters, the state at a communication point, the checks of the parameters
 //! that need more than one of them, the state at the start time, one communication step
-//! (`axes` for model 0, `rigid` for model 1) and the energies. Per step it equals the body
+//! (`axes` for model 0, `rigid` for model 1), the load ports' kinematics and the summed load
+//! (`ports`) and the energies. Per step it equals the body
 //! update of scripts/cosim/master.py's zero-order-hold method (docs/body.md). Uses its own
-//! submodules only (`types` holds the data, `axes` and `rigid` the two models' steps).
+//! submodules only (`types` holds the data, `axes` and `rigid` the two models' steps, `ports`
+//! the load ports).
 
 pub mod axes;
+pub mod ports;
 pub mod quat;
 pub mod rigid;
 pub mod types;
 
 use quat::{mat_t_vec, matrix, norm, norm2};
-pub use types::{Body, Dof, Load, Model, Params, MIN_QUAT_NORM};
+pub use types::{Body, Dof, Load, Model, Params, Port, MIN_QUAT_NORM, PORTS};
 
 /// Checks what needs more than one parameter; the message names them.
 pub fn check(p: &Params) -> Result<(), String> {
@@ -21,6 +24,7 @@ pub fn check(p: &Params) -> Result<(), String> {
             "start.q has norm {n:e}: an orientation needs a finite norm of at least {MIN_QUAT_NORM:e}"
         ));
     }
+    ports::check(&p.ports)?;
     match p.model {
         Model::Axes => axes::check(p),
         Model::Rigid => match (0..3).find(|&i| p.spring[i] != 0.0) {

@@ -53,6 +53,30 @@ pub struct Params {
     pub start_w: Vec3,
     /// model 1: largest turn per RK4 substep (rad)
     pub max_turn: f64,
+    /// the load ports' offsets
+    pub ports: [Port; PORTS],
+}
+
+/// Number of load ports.
+pub const PORTS: usize = 4;
+
+/// A load port's place on the body (parameters `port[k].offset.*`); the default is the
+/// parameters' start: at the centre of mass, the body frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Port {
+    /// the port point p_k in the body frame, from the centre of mass (m)
+    pub offset_r: Vec3,
+    /// the port frame relative to the body frame, port → body (any norm ≥ 1e-6; normalised)
+    pub offset_q: Quat,
+}
+
+impl Default for Port {
+    fn default() -> Self {
+        Port {
+            offset_r: [0.0; 3],
+            offset_q: [1.0, 0.0, 0.0, 0.0],
+        }
+    }
 }
 
 /// The body at a communication point: what the FMU outputs, and model 0's angle about each
@@ -71,12 +95,13 @@ pub struct Body {
     pub angle: Vec3,
 }
 
-/// The load on the body over a step (held), in W.
+/// A load held over a step, in W: the body's own inputs (force at the centre of mass, moment
+/// about it) or a port's (force at the port point, moment), gravity not included.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Load {
-    /// force at the centre of mass (N), gravity not included
+    /// force (N)
     pub f: Vec3,
-    /// moment about the centre of mass (N.m)
+    /// moment (N.m)
     pub m: Vec3,
 }
 
