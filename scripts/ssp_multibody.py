@@ -142,9 +142,9 @@ def figure(path):
     eta, measured = modal_frequencies(t, np.column_stack([r, rot]), phi, M)
     fig, (a, b) = plt.subplots(1, 2, figsize=(12, 5.2), gridspec_kw={"width_ratios": [1.2, 1]})
     for j, lab in enumerate(("x", "y", "z")):
-        a.plot(t, 1e3 * r[:, j], lw=0.9, label=f"r_{lab} (mm)")
+        a.plot(t, 1e3 * r[:, j], lw=0.9, color=f"C{j}", label=f"r_{lab} (mm)")
     for j, lab in enumerate(("x", "y", "z")):
-        a.plot(t, 1e3 * rot[:, j], lw=0.9, ls="--", label=f"θ_{lab} (mrad)")
+        a.plot(t, 1e3 * rot[:, j], lw=0.9, ls="--", color=f"C{j}", label=f"θ_{lab} (mrad)")
     a.set_xlabel("t (s)")
     a.set_ylabel("mm, mrad")
     a.set_title("response: the block's pose (monolithic reference, case 0)")
