@@ -1,6 +1,6 @@
 //! The command line: `master run ARCHIVE.ssp|MODEL.fmu --method jacobi|gauss_seidel --step H
 //! [--stop T] [--start COMPONENT.VARIABLE=VALUE ...] [--interval DT] [--input FILE.csv]
-//! [--grid exact|ns|sum] [--profile] [--log] --out FILE.csv`. Parses the arguments, runs, writes
+//! [--grid exact|diff|ns|sum] [--profile] [--log] --out FILE.csv`. Parses the arguments, runs, writes
 //! the CSV and prints one summary line; returns the exit status. Uses the crate's public API.
 
 use crate::algorithm::Method;
@@ -16,7 +16,7 @@ use std::path::PathBuf;
 pub const USAGE: &str =
     "usage: master run ARCHIVE.ssp|MODEL.fmu [--method jacobi|gauss_seidel] [--step H] [--stop T]
                   [--start COMPONENT.VARIABLE=VALUE ...] [--interval DT] [--input FILE.csv]
-                  [--grid exact|ns|sum] [--profile] [--log] --out FILE.csv";
+                  [--grid exact|diff|ns|sum] [--profile] [--log] --out FILE.csv";
 
 /// Parsed arguments of `run`.
 #[derive(Debug, Clone)]

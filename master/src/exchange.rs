@@ -17,6 +17,8 @@ pub enum Slot {
     Real(usize),
     /// `ints[i]` (an integer).
     Int(usize),
+    /// `ints[i]` (a UInt64, as its bits).
+    UInt(usize),
     /// `ints[i]` (a Boolean, 0 or 1).
     Bool(usize),
     /// `strings[i]`.
@@ -147,6 +149,10 @@ impl Exchange {
                         (_, VarType::Boolean) => {
                             x.ints.push(0);
                             Slot::Bool(at + i)
+                        }
+                        (_, VarType::UInt64) => {
+                            x.ints.push(0);
+                            Slot::UInt(at + i)
                         }
                         _ => {
                             x.ints.push(0);

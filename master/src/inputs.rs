@@ -13,8 +13,17 @@ use crate::slave::{Slave, Value};
 pub struct InputTable {
     file: String,
     times: Vec<f64>,
-    /// (variable index, continuous, values).
-    columns: Vec<(usize, bool, Vec<f64>)>,
+    columns: Vec<Column>,
+}
+
+/// One input's values, as numbers (Reals) or exact integers (every integer type and Boolean,
+/// UInt64 as its bits in an i64).
+#[derive(Debug, Clone)]
+struct Column {
+    var: usize,
+    continuous: bool,
+    reals: Vec<f64>,
+    ints: Vec<i64>,
 }
 
 impl InputTable {
@@ -55,7 +64,12 @@ impl InputTable {
             }
             let continuous =
                 var.ty.family() == Family::Real && var.variability == Variability::Continuous;
-            columns.push((vi, continuous, Vec::new()));
+            columns.push(Column {
+                var: vi,
+                continuous,
+                reals: Vec::new(),
+                ints: Vec::new(),
+            });
         }
         let mut times = Vec::new();
         for (n, line) in lines.enumerate() {
@@ -87,7 +101,33 @@ impl InputTable {
             }
             times.push(t);
             for (j, col) in columns.iter_mut().enumerate() {
-                col.2.push(num(j + 1)?);
+                let var = &md.variables[col.var];
+                if var.ty.family() == Family::Real {
+                    col.reals.push(num(j + 1)?);
+                } else {
+                    let c = cells[j + 1].trim();
+                    let n: i128 = match c {
+                        "true" => 1,
+                        "false" => 0,
+                        _ => c
+                            .parse::<i128>()
+                            .or_else(|_| num(j + 1).map(|x| x as i128))?,
+                    };
+                    let bits = if var.ty == crate::model_description::VarType::UInt64 {
+                        u64::try_from(n).map(|u| u as i64).ok()
+                    } else {
+                        i64::try_from(n).ok()
+                    };
+                    col.ints.push(bits.ok_or_else(|| {
+                        Error::new(format!(
+                            "row {}: {n} is out of the range of {:?}",
+                            n + 2,
+                            var.ty
+                        ))
+                        .element(file)
+                        .variable(&names[j + 1])
+                    })?);
+                }
             }
         }
         if times.is_empty() {
@@ -100,9 +140,13 @@ impl InputTable {
         })
     }
 
+    /// The index of the last row at or before t (0 before the first).
+    fn row(&self, t: f64) -> usize {
+        self.times.partition_point(|&x| x <= t).max(1) - 1
+    }
+
     fn value_at(&self, values: &[f64], continuous: bool, t: f64) -> f64 {
         let n = self.times.len();
-        // the last row at or before t
         let i = self.times.partition_point(|&x| x <= t);
         if i == 0 {
             return values[0];
@@ -122,13 +166,12 @@ impl InputTable {
     /// Sets the slave's inputs to their values at t.
     pub fn apply(&self, slave: &mut Slave, t: f64) -> Result<()> {
         let md = std::sync::Arc::clone(&slave.md);
-        for (vi, continuous, values) in &self.columns {
-            let var = &md.variables[*vi];
-            let x = self.value_at(values, *continuous, t);
+        for col in &self.columns {
+            let var = &md.variables[col.var];
             let v = match var.ty.family() {
-                Family::Real => Value::Real(x),
-                Family::Boolean => Value::Boolean(x != 0.0),
-                _ => Value::Integer(x as i64),
+                Family::Real => Value::Real(self.value_at(&col.reals, col.continuous, t)),
+                Family::Boolean => Value::Boolean(col.ints[self.row(t)] != 0),
+                _ => Value::Integer(col.ints[self.row(t)]),
             };
             slave
                 .set_value(var, &v, t)

@@ -70,6 +70,7 @@ impl Observer for CsvFile {
             let _ = match *slot {
                 Slot::Real(i) => write!(self.line, "{:?}", x.reals[i]),
                 Slot::Int(i) | Slot::Bool(i) => write!(self.line, "{}", x.ints[i]),
+                Slot::UInt(i) => write!(self.line, "{}", x.ints[i] as u64),
                 Slot::Str(i) => write!(self.line, "{}", quote(&x.strings[i])),
             };
         }
@@ -109,6 +110,7 @@ impl Observer for Memory {
             self.values.push(match *slot {
                 Slot::Real(i) => x.reals[i],
                 Slot::Int(i) | Slot::Bool(i) => x.ints[i] as f64,
+                Slot::UInt(i) => x.ints[i] as u64 as f64,
                 Slot::Str(i) => {
                     self.strings.push(x.strings[i].clone());
                     f64::NAN

@@ -1,8 +1,9 @@
 //! Time on a grid of integer ticks: the communication point k is t_k = t_0 + k·H, computed
 //! here and nowhere else, and the step from t_k is h_k = t_(k+1) − t_k. The default grid is
-//! `Exact` (h_k = H exactly, t_k = t_0 + k·H as one product); the two others reproduce the
-//! grids of libcosim (integer nanoseconds: t_k = k·ns/1e9) and Ecos (the float sum
-//! t_(k+1) = t_k + H, steps of H), so that runs can be compared on the same points.
+//! `Exact` (h_k = H exactly, t_k = t_0 + k·H as one product); the three others reproduce the
+//! grids of fmusim (`Difference`: the same t_k, h_k = t_(k+1) − t_k), libcosim (integer
+//! nanoseconds: t_k = t_0 + k·ns/1e9) and Ecos (the float sum t_(k+1) = t_k + H, steps of H),
+//! so that runs can be compared on the same points.
 //! Uses error.rs.
 
 use crate::error::{Error, Result};
@@ -12,6 +13,8 @@ use crate::error::{Error, Result};
 pub enum GridKind {
     /// t_k = t_0 + k·H, h_k = H.
     Exact,
+    /// fmusim: t_k = t_0 + k·H, h_k = t_(k+1) − t_k.
+    Difference,
     /// libcosim: t_k = t_0 + (k·H_ns)/1e9 with H_ns = H in whole nanoseconds, h_k = t_(k+1) − t_k.
     Nanoseconds,
     /// Ecos: t_(k+1) = t_k + H, h_k = H.
@@ -19,14 +22,15 @@ pub enum GridKind {
 }
 
 impl GridKind {
-    /// Parses `exact`, `ns` or `sum`.
+    /// Parses `exact`, `diff`, `ns` or `sum`.
     pub fn parse(s: &str) -> Result<Self> {
         match s {
             "exact" => Ok(GridKind::Exact),
+            "diff" => Ok(GridKind::Difference),
             "ns" => Ok(GridKind::Nanoseconds),
             "sum" => Ok(GridKind::Sum),
             other => Err(Error::new(format!(
-                "unknown time grid '{other}'; there are: exact, ns, sum"
+                "unknown time grid '{other}'; there are: exact, diff, ns, sum"
             ))),
         }
     }
@@ -96,7 +100,7 @@ impl Grid {
     /// carried along); the execution asks in order.
     pub fn time(&mut self, k: u64) -> f64 {
         match self.kind {
-            GridKind::Exact => self.t0 + k as f64 * self.step,
+            GridKind::Exact | GridKind::Difference => self.t0 + k as f64 * self.step,
             GridKind::Nanoseconds => self.t0 + ((k as i64 * self.ns) as f64) / 1e9,
             GridKind::Sum => self.sum,
         }
@@ -107,6 +111,7 @@ impl Grid {
         let t = self.time(k);
         match self.kind {
             GridKind::Exact => (t, self.step),
+            GridKind::Difference => (t, self.t0 + (k + 1) as f64 * self.step - t),
             GridKind::Nanoseconds => {
                 let next = self.t0 + (((k + 1) as i64 * self.ns) as f64) / 1e9;
                 (t, next - t)

@@ -330,7 +330,7 @@ impl Fmi3Instance {
             _ => self.set_f64(vrs, values),
         }
     }
-    /// The getter of an integer type (or Boolean as 0/1), as i64 (UInt64 above i64::MAX wraps).
+    /// The getter of an integer type (or Boolean as 0/1), as i64 (UInt64 as its bits).
     pub fn get_int(&mut self, ty: VarType, vrs: &[u32], out: &mut [i64]) -> Result<Status> {
         let c = self.c;
         let f = &self.fns;
@@ -370,8 +370,8 @@ impl Fmi3Instance {
                 .and_then(|_| set_as(c, f.i32.set, ty, vrs, values, |v| v as i32)),
             VarType::UInt32 => fit::<u32>(ty, values)
                 .and_then(|_| set_as(c, f.u32.set, ty, vrs, values, |v| v as u32)),
-            VarType::UInt64 => fit::<u64>(ty, values)
-                .and_then(|_| set_as(c, f.u64.set, ty, vrs, values, |v| v as u64)),
+            // UInt64 travels as its bits in an i64
+            VarType::UInt64 => set_as(c, f.u64.set, ty, vrs, values, |v| v as u64),
             VarType::Boolean => set_as(c, f.boolean.set, ty, vrs, values, |v| u8::from(v != 0)),
             _ => set_as(c, f.i64.set, VarType::Int64, vrs, values, |v| v),
         }
