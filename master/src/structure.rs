@@ -155,7 +155,7 @@ fn check_settable(c: Causality, v: Variability) -> Result<()> {
         Causality::Output | Causality::CalculatedParameter | Causality::Independent
     ) {
         return Err(Error::new(format!(
-            "it is a {} variable and cannot be set",
+            "its causality is {} and it cannot be set",
             c.name()
         )));
     }
@@ -320,7 +320,7 @@ fn from_archive(path: &Path) -> Result<System> {
         let name_to = format!("{}.{}", components[to.0].name, vt.name);
         if vf.causality != Causality::Output {
             return Err(Error::new(format!(
-                "a connection starts at {name_from}, which is a {} variable, not an output",
+                "a connection starts at {name_from}, whose causality is {}, not output",
                 vf.causality.name()
             ))
             .element(&c.origin)
@@ -329,7 +329,7 @@ fn from_archive(path: &Path) -> Result<System> {
         }
         if vt.causality != Causality::Input {
             return Err(Error::new(format!(
-                "a connection ends at {name_to}, which is a {} variable, not an input",
+                "a connection ends at {name_to}, whose causality is {}, not input",
                 vt.causality.name()
             ))
             .element(&c.origin)
