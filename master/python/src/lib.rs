@@ -14,6 +14,9 @@ use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+/// (name, type, causality, start) of one variable.
+type VariableRow = (String, String, String, Option<String>);
+
 create_exception!(
     _native,
     MasterError,
@@ -62,10 +65,7 @@ impl System {
     }
 
     /// The variables of `component`: (name, type, causality, start).
-    fn variables(
-        &self,
-        component: &str,
-    ) -> PyResult<Vec<(String, String, String, Option<String>)>> {
+    fn variables(&self, component: &str) -> PyResult<Vec<VariableRow>> {
         let c = self
             .inner
             .components
@@ -135,18 +135,21 @@ impl System {
             .iter()
             .map(|c| c.starts.clone())
             .collect();
-        let result = (|| {
+        let result = (|| -> Result<_, Box<fmi_master::Error>> {
             for (name, value) in &start_values {
-                self.inner.add_start(name, value, "start_values")?;
+                self.inner
+                    .add_start(name, value, "start_values")
+                    .map_err(Box::new)?;
             }
             let mut memory = Memory::default();
-            let outcome = execution::run(&self.inner, &settings, table.as_ref(), &mut memory)?;
+            let outcome = execution::run(&self.inner, &settings, table.as_ref(), &mut memory)
+                .map_err(Box::new)?;
             Ok((memory, outcome))
         })();
         for (c, starts) in self.inner.components.iter_mut().zip(saved) {
             c.starts = starts;
         }
-        let (memory, o) = result.map_err(err)?;
+        let (memory, o) = result.map_err(|e| err(*e))?;
         let d = PyDict::new(py);
         d.set_item("columns", memory.columns)?;
         d.set_item("time", memory.time)?;
