@@ -114,12 +114,17 @@ impl Exchange {
             let md = sys.md(c);
             let mut ports = Ports::default();
             let mut slots = std::collections::BTreeMap::new();
-            for (vi, var) in md
+            // slots are laid out type by type (one get call per type and component), the
+            // columns stay in the model description's order
+            let mut outputs: Vec<(usize, &Variable)> = md
                 .variables
                 .iter()
                 .enumerate()
                 .filter(|(_, v)| v.causality == crate::model_description::Causality::Output)
-            {
+                .collect();
+            outputs.sort_by_key(|(vi, v)| (v.ty as u8, *vi));
+            let mut columns = Vec::new();
+            for (vi, var) in outputs {
                 let fam = var.ty.family();
                 if fam == Family::Other {
                     continue;
@@ -159,7 +164,7 @@ impl Exchange {
                             Slot::Int(at + i)
                         }
                     };
-                    x.columns.push((name, slot));
+                    columns.push(((vi, i), name, slot));
                 }
                 slots.insert(vi, at);
                 match ports
@@ -179,6 +184,9 @@ impl Exchange {
                     }),
                 }
             }
+            columns.sort_by_key(|(key, _, _)| *key);
+            x.columns
+                .extend(columns.into_iter().map(|(_, name, slot)| (name, slot)));
             slot_of.push(slots);
             x.ports.push(ports);
         }

@@ -94,6 +94,8 @@ fn fails(r: &(i32, String, String, Option<String>), pieces: &[&str]) {
     assert_ne!(r.0, 0, "exit status 0; stdout: {}", r.1);
     let msg: Vec<&str> = r.2.lines().filter(|l| l.starts_with("master: ")).collect();
     assert_eq!(msg.len(), 1, "one message expected, got: {}", r.2);
+    // shown with --nocapture: the messages docs/master.md quotes
+    eprintln!("{}", msg[0]);
     for p in pieces {
         assert!(msg[0].contains(p), "the message lacks '{p}': {}", msg[0]);
     }
