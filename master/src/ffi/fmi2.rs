@@ -2,7 +2,7 @@
 //! instance whose safe methods wrap `fmi2Instantiate` … `fmi2FreeInstance`. Uses fmi_shared's
 //! fmi2 types, ffi/mod.rs (Library, Status, LogSink) and error.rs.
 
-use super::{c_str, Library, LogSink, Status};
+use super::{c_str, log_to, Library, LogSink, Status};
 use crate::error::{Error, Result};
 use fmi_shared::fmi2::{
     fmi2Boolean, fmi2CallbackFunctions, fmi2CallbackLogger, fmi2Component,
@@ -296,14 +296,9 @@ unsafe extern "C" fn logger(
     category: fmi2String,
     message: fmi2String,
 ) {
-    let _ = std::panic::catch_unwind(|| {
-        if env.is_null() {
-            return;
-        }
-        // SAFETY: env is the LogSink pointer given at instantiation (alive with the instance);
-        // the strings are NUL-terminated or NULL.
-        let sink = unsafe { &*(env as *const LogSink) };
-        let line = unsafe {
+    // SAFETY: env is the LogSink given at instantiation; the strings are NUL-terminated or NULL.
+    unsafe {
+        log_to(env, || {
             format!(
                 "{} [{}] {}: {}",
                 c_str(instance),
@@ -311,9 +306,8 @@ unsafe extern "C" fn logger(
                 Status::from_c(status).name("fmi2"),
                 c_str(message)
             )
-        };
-        sink.push(line);
-    });
+        })
+    }
 }
 
 fn logger_fn() -> fmi2CallbackLogger {

@@ -4,7 +4,7 @@
 //! event mode and without early return (a fixed-step master). Uses fmi_shared's fmi3 types,
 //! ffi/mod.rs and error.rs.
 
-use super::{c_str, Library, LogSink, Status};
+use super::{c_str, log_to, Library, LogSink, Status};
 use crate::error::{Error, Result};
 use crate::model_description::VarType;
 use fmi_shared::fmi3::{
@@ -428,21 +428,15 @@ unsafe extern "C" fn logger(
     category: fmi3String,
     message: fmi3String,
 ) {
-    let _ = std::panic::catch_unwind(|| {
-        if env.is_null() {
-            return;
-        }
-        // SAFETY: env is the LogSink given at instantiation, alive with the instance; the
-        // strings are NUL-terminated or NULL.
-        let sink = unsafe { &*(env as *const LogSink) };
-        let line = unsafe {
+    // SAFETY: env is the LogSink given at instantiation; the strings are NUL-terminated or NULL.
+    unsafe {
+        log_to(env, || {
             format!(
                 "[{}] {}: {}",
                 c_str(category),
                 Status::from_c(status).name("fmi3"),
                 c_str(message)
             )
-        };
-        sink.push(line);
-    });
+        })
+    }
 }

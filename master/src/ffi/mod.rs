@@ -145,3 +145,19 @@ unsafe fn c_str(p: *const std::ffi::c_char) -> String {
             .into_owned()
     }
 }
+
+/// Hands a logged line to the `LogSink` behind `env` (an instance's environment pointer); the
+/// loggers of both versions call it, and no panic leaves it.
+///
+/// # Safety
+/// `env` is NULL or the `LogSink` pointer given at instantiation, alive with the instance.
+unsafe fn log_to(env: *mut std::ffi::c_void, line: impl FnOnce() -> String) {
+    let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        if env.is_null() {
+            return;
+        }
+        // SAFETY: see the function's contract.
+        let sink = unsafe { &*(env as *const LogSink) };
+        sink.push(line());
+    }));
+}

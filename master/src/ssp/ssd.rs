@@ -113,6 +113,21 @@ fn family(e: &Element) -> Option<Family> {
     })
 }
 
+/// The parameters of a system's bindings that reach its element `name` (written `name.rest`), as
+/// `rest`.
+fn scoped(params: &[Parameter], name: &str) -> Vec<Parameter> {
+    let prefix = format!("{name}.");
+    params
+        .iter()
+        .filter_map(|p| {
+            p.name.strip_prefix(&prefix).map(|rest| Parameter {
+                name: rest.to_string(),
+                ..p.clone()
+            })
+        })
+        .collect()
+}
+
 fn req<'e>(e: &'e Element, key: &str) -> Result<&'e str> {
     xml::required(e, key).map_err(|err| Error {
         element: Some(format!("{SSD} {}", e.at())),
@@ -267,17 +282,7 @@ impl Reader<'_> {
                             });
                         }
                         // the system's bindings reach the component as `name.parameter`
-                        let mut parameters: Vec<Parameter> = params
-                            .iter()
-                            .filter_map(|p| {
-                                p.name
-                                    .strip_prefix(&format!("{name}."))
-                                    .map(|rest| Parameter {
-                                        name: rest.to_string(),
-                                        ..p.clone()
-                                    })
-                            })
-                            .collect();
+                        let mut parameters = scoped(&params, &name);
                         parameters.extend(self.bindings(e, &q, "")?);
                         self.desc.components.push(Component {
                             name: q,
@@ -289,17 +294,7 @@ impl Reader<'_> {
                     }
                     "System" => {
                         names.insert(name.clone(), false);
-                        let inner: Vec<Parameter> = params
-                            .iter()
-                            .filter_map(|p| {
-                                p.name
-                                    .strip_prefix(&format!("{name}."))
-                                    .map(|rest| Parameter {
-                                        name: rest.to_string(),
-                                        ..p.clone()
-                                    })
-                            })
-                            .collect();
+                        let inner = scoped(&params, &name);
                         self.system(e, &format!("{path}{name}."), &inner)?;
                     }
                     "SignalDictionaryReference" => {
