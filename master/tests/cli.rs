@@ -716,3 +716,104 @@ fn bad_arguments_get_the_usage() {
         &["the step 0.3 does not divide the time from 0 to 0.1 into whole steps"],
     );
 }
+
+#[test]
+fn nested_systems_inline_parameter_sets_and_linear_transformations() {
+    let dir = scratch("nested");
+    // src moves at 1 m/s along z (prescribed): r(t_k) = k·h. Its r[3] reaches dst.f[3] through
+    // the nested system's connector `load`, y = 0.5·(2·r + 0.5) + 1 = r + 1.25 (two linear
+    // transformations composed). dst is a free unit mass without gravity: under Jacobi its
+    // velocity after n steps is Σ_(k<n) (k·h + 1.25)·h (body.md: v += f/m·h per step).
+    let set = |body: &str| {
+        format!(
+            r#"<ssd:ParameterBindings><ssd:ParameterBinding><ssd:ParameterValues>
+              <ssv:ParameterSet version="1.0" name="p"><ssv:Parameters>{body}</ssv:Parameters></ssv:ParameterSet>
+            </ssd:ParameterValues></ssd:ParameterBinding></ssd:ParameterBindings>"#
+        )
+    };
+    let real = |n: &str, v: &str| {
+        format!(r#"<ssv:Parameter name="{n}"><ssv:Real value="{v}"/></ssv:Parameter>"#)
+    };
+    let int = |n: &str, v: &str| {
+        format!(r#"<ssv:Parameter name="{n}"><ssv:Integer value="{v}"/></ssv:Parameter>"#)
+    };
+    let src = set(&format!(
+        "{}{}{}",
+        int("dof.r[3]", "2"),
+        real("start.v[3]", "1.0"),
+        real("gravity[3]", "0")
+    ));
+    let dst = set(&format!(
+        "{}{}",
+        real("mass", "1.0"),
+        real("gravity[3]", "0")
+    ));
+    let ssd = format!(
+        r#"<?xml version="1.0" encoding="UTF-8"?>
+<ssd:SystemStructureDescription xmlns:ssd="http://ssp-standard.org/SSP1/SystemStructureDescription" xmlns:ssc="http://ssp-standard.org/SSP1/SystemStructureCommon" xmlns:ssv="http://ssp-standard.org/SSP1/SystemStructureParameterValues" version="1.0" name="nested">
+  <ssd:System name="outer">
+    <ssd:Elements>
+      <ssd:Component name="src" source="resources/Body.fmu">{src}</ssd:Component>
+      <ssd:System name="sub">
+        <ssd:Connectors><ssd:Connector name="load" kind="input"><ssc:Real/></ssd:Connector></ssd:Connectors>
+        <ssd:Elements><ssd:Component name="dst" source="resources/Body.fmu">{dst}</ssd:Component></ssd:Elements>
+        <ssd:Connections>
+          <ssd:Connection startConnector="load" endElement="dst" endConnector="f[3]">
+            <ssc:LinearTransformation factor="0.5" offset="1"/>
+          </ssd:Connection>
+        </ssd:Connections>
+      </ssd:System>
+    </ssd:Elements>
+    <ssd:Connections>
+      <ssd:Connection startElement="src" startConnector="r[3]" endElement="sub" endConnector="load">
+        <ssc:LinearTransformation factor="2" offset="0.5"/>
+      </ssd:Connection>
+    </ssd:Connections>
+  </ssd:System>
+  <ssd:DefaultExperiment startTime="0" stopTime="1"/>
+</ssd:SystemStructureDescription>"#
+    );
+    let mut files = BTreeMap::new();
+    files.insert("SystemStructure.ssd".to_string(), ssd.into_bytes());
+    files.insert(
+        "resources/Body.fmu".to_string(),
+        std::fs::read(dist("Body.fmu")).unwrap(),
+    );
+    let p = dir.join("nested.ssp");
+    write_zip(&p, &files);
+    let r = run(&dir, &[s(&p), "--step", "0.1"]);
+    assert_eq!(r.0, 0, "{}", r.2);
+    let csv = r.3.unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| *h == name)
+            .unwrap_or_else(|| panic!("no column {name}: {header:?}"))
+    };
+    let (v, z) = (col("sub.dst.v[3]"), col("src.r[3]"));
+    let rows: Vec<Vec<f64>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| {
+            l.split(',')
+                .map(|x| x.parse().unwrap_or(f64::NAN))
+                .collect()
+        })
+        .collect();
+    let h = 0.1;
+    let mut expected = 0.0;
+    for (k, row) in rows.iter().enumerate() {
+        // 1e-12: sums of ten terms of order 0.1 computed in another order than the FMU's
+        assert!(
+            (row[v] - expected).abs() < 1e-12,
+            "t = {}: v = {}, expected {expected}",
+            row[0],
+            row[v]
+        );
+        assert!((row[z] - k as f64 * h).abs() < 1e-12);
+        expected += (k as f64 * h + 1.25) * h;
+    }
+    assert_eq!(rows.len(), 11);
+    assert!((rows[10][v] - 1.7).abs() < 1e-12, "{}", rows[10][v]);
+}
