@@ -16,12 +16,23 @@ fn scratch() -> PathBuf {
 }
 
 fn inside(root: &Path, dir: &Path) {
-    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
     for e in entries.flatten() {
         let p = e.path();
         let meta = std::fs::symlink_metadata(&p).expect("an unpacked file is readable");
-        assert!(!meta.file_type().is_symlink(), "an unpacked entry is a symlink: {}", p.display());
-        assert!(p.starts_with(root), "{} is outside {}", p.display(), root.display());
+        assert!(
+            !meta.file_type().is_symlink(),
+            "an unpacked entry is a symlink: {}",
+            p.display()
+        );
+        assert!(
+            p.starts_with(root),
+            "{} is outside {}",
+            p.display(),
+            root.display()
+        );
         if meta.is_dir() {
             inside(root, &p);
         }
@@ -30,7 +41,9 @@ fn inside(root: &Path, dir: &Path) {
 
 /// One input.
 pub fn run(data: &[u8]) {
-    let Some((&mode, body)) = data.split_first() else { return };
+    let Some((&mode, body)) = data.split_first() else {
+        return;
+    };
     match mode % 3 {
         0 => {
             let text = String::from_utf8_lossy(body);
