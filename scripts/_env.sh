@@ -44,6 +44,15 @@ build_release() {
     cargo build --release
 }
 
+# The native master's Python bindings (master/python/, PyO3): maturin builds the wheel into dist/
+# (one abi3 wheel, CPython >= 3.9) and it is installed into the venv, as a user's pip would.
+build_bindings() {
+    echo "==> maturin: the native master's Python bindings into dist/ and $VENV"
+    rm -f dist/fmi_master-*.whl
+    "$VENV/bin/maturin" build --release --quiet -m master/python/Cargo.toml --out dist
+    "$PY" -m pip install --quiet --disable-pip-version-check --no-deps --force-reinstall dist/fmi_master-*.whl
+}
+
 package_fmus() {
     echo "==> packaging FMUs into dist/"
     "$PY" scripts/package.py
@@ -52,10 +61,12 @@ package_fmus() {
     "$PY" scripts/package_ssp.py
 }
 
-# Everything scripts/run installs: venv, libtbb12, release library, packaged FMUs and SSPs.
+# Everything scripts/run installs: venv, libtbb12, release library and master, packaged FMUs and
+# SSPs, the master's Python bindings.
 setup_all() {
     ensure_venv
     ensure_tbb
     build_release
     package_fmus
+    build_bindings
 }

@@ -1,9 +1,9 @@
 //! The house rules a reader relies on, checked on the source tree itself:
-//! - no import cycle between the files of `src/`: each file's dependencies (its `use`
+//! - no import cycle between the files of `src/` (and of `master/src/`, the master's crate): each file's dependencies (its `use`
 //!   declarations and the `crate::`, `super::`, `self::` paths in its code, resolved to the file
 //!   that defines the item, through `pub use` re-exports) form a graph without cycles, so every
 //!   file reads on top of the ones it uses and none of those uses it back;
-//! - no source file (`.rs`, `.py` under src/, tests/, benches/, fuzz/, scripts/, bodies/) above
+//! - no source file (`.rs`, `.py` under src/, tests/, benches/, fuzz/, scripts/, bodies/, master/) above
 //!   1,000 lines, except the literal variable table (src/model/variables.rs).
 //!
 //! Plain std: a small scanner for Rust paths (comments and literals stripped), no parser crate.
@@ -544,6 +544,30 @@ fn no_import_cycle_between_files_of_src() {
 }
 
 #[test]
+fn no_import_cycle_between_files_of_the_masters_src() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("master");
+    let files = sources(&root);
+    assert!(
+        files.len() > 15,
+        "the scan found {} files under master/src/",
+        files.len()
+    );
+    let edges = graph(&files);
+    // the scan sees the master's layering (the time loop on the exchange, the slave on the
+    // FMI boundary)
+    let has = |from: &str, to: &str| edges[Path::new(from)].contains(Path::new(to));
+    assert!(has("execution.rs", "exchange.rs"));
+    assert!(has("slave.rs", "ffi/fmi2.rs"));
+    assert!(has("structure.rs", "ssp/mod.rs"));
+    let found = cycles(&edges);
+    assert!(
+        found.is_empty(),
+        "import cycles between files of master/src:\n{}",
+        found.iter().map(|c| show(c)).collect::<Vec<_>>().join("\n")
+    );
+}
+
+#[test]
 fn the_cycle_check_sees_a_cycle() {
     let file = |module: &[&str], code: &str| Source {
         module: module.iter().map(|s| s.to_string()).collect(),
@@ -595,7 +619,9 @@ fn code_files(root: &Path) -> Vec<PathBuf> {
         }
     }
     let mut out = Vec::new();
-    for d in ["src", "tests", "benches", "fuzz", "scripts", "bodies"] {
+    for d in [
+        "src", "tests", "benches", "fuzz", "scripts", "bodies", "master",
+    ] {
         walk(root, &root.join(d), &mut out);
     }
     out.sort();
