@@ -3,8 +3,9 @@
 master (libcosim, Ecos): every scene of dist/ssp packaged once per setting (0 hold, 1 linear
 along the velocity inputs, 2 quadratic from the input history, 3 along the acceleration inputs,
 which no Body drives: zero), run in both tools at each H, its error against the scene's
-reference (the same runs as `./scripts/ssp SCENE --tool T --step H --extrapolation E`). Writes out/ssp_extrapolation.csv and prints the table of docs/ssp.md.
-Usage: ssp_extrapolation.py [--step H ...] [--scene NAME ...] [--setting E ...]
+reference (the same runs as `./scripts/ssp SCENE --tool T --step H --extrapolation E`). Writes
+out/ssp_extrapolation.csv and prints the table of docs/ssp.md (--table: only the table, from it).
+Usage: ssp_extrapolation.py [--step H ...] [--scene NAME ...] [--setting E ...] [--table]
 Run after ./scripts/run (it needs dist/*.fmu).
 """
 import argparse
