@@ -22,11 +22,14 @@ from sspkit import archive, multibody  # noqa: E402
 
 def main(argv):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("scenes", nargs="*", metavar="SCENE", choices=[[], *multibody.ALL])
+    ap.add_argument("scenes", nargs="*", metavar="SCENE", help=f"one of {', '.join(multibody.ALL)}")
     ap.add_argument("--extrapolation", type=int, choices=(0, 1, 2, 3),
                     help="every connector's cosim.extrapolation (default: systems.EXTRAPOLATION)")
     ap.add_argument("--out", type=Path, default=DIST / "ssp", help="where the archives go (default dist/ssp)")
     args = ap.parse_args(argv)
+    unknown = [n for n in args.scenes if n not in multibody.ALL]
+    if unknown:
+        ap.error(f"no scene {', '.join(map(repr, unknown))}; there are: {', '.join(multibody.ALL)}")
     for name in args.scenes or multibody.ALL:
         system = multibody.system(name, args.extrapolation)
         path = archive.write(system, args.out / f"{name}.ssp")
