@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """The measurements of docs/ssp.md and docs/cosim.md for the multi-body scenes (chain,
-chain_damped, engine_mount, engine_mount_damped: scripts/sspkit/multibody.py), in one run:
+chain_damped, engine_mount, engine_mount_damped: scripts/sspkit/multibody.py), their held-input
+archives (every connector at cosim.extrapolation = 0), in one run:
 
 (a) per scene, tool (libcosim, Ecos) and H (10, 1, 0.1 ms): the error against the scene's
     reference (position, and the energy error of the undamped cases), whether the run is stable
@@ -33,7 +34,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from cosim.connectors import REPO  # noqa: E402
-from sspkit import cli, engine_mount, engine_reference as ref, multibody, tools  # noqa: E402
+from sspkit import cli, engine_mount, engine_reference as ref, multibody, systems, tools  # noqa: E402
 
 STEPS = (1e-2, 1e-3, 1e-4)
 FIGURE = REPO / "docs" / "img" / "engine_mount_modes.png"
@@ -66,8 +67,8 @@ def part(a, b):
 def tables(names, repeat):
     rows, eq = [], []
     for name in names:
-        system = multibody.system(name)
-        scene, path = system.scene, cli.archive_path(name)
+        path, system = cli.packaged(name, systems.HELD)   # the held-input archive (docs/ssp.md)
+        scene = system.scene
         for H in STEPS:
             runs = {}
             for tool in tools.TOOLS:

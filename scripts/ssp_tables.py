@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
-"""The measurements of docs/ssp.md: the SSP scenes (dist/ssp/, ./scripts/run) in libcosim and Ecos
-beside this project's own master (scripts/cosim/master.py), in one run on one machine.
+"""The measurements of docs/ssp.md: the SSP scenes' held-input archives (every connector at
+cosim.extrapolation = 0, sspkit.cli.packaged; dist/ssp's own setting: ssp_extrapolation.py) in
+libcosim and Ecos beside this project's own master (scripts/cosim/master.py), in one run on one
+machine.
 
 (a) errors: per scene and communication step H, the scene's error against its reference (the
     scene's own `measure`) of libcosim, Ecos, and our master's jacobi, zoh and event-located
@@ -55,8 +57,8 @@ def errors(names, steps):
     """Rows (scene, H, method, error, diff_grid, diff_own) for tables (a) and (b)."""
     rows = []
     for name in names:
-        s = systems.system(name)
-        scene, path = s.scene, cli.archive_path(name)
+        path, s = cli.packaged(name, systems.HELD)        # the held-input archive: our jacobi
+        scene = s.scene
         for H in steps:
             own = {}
             for method in METHODS:
@@ -95,8 +97,8 @@ def cpu(names, H, repeat):
     out = {}
     for r in range(repeat):
         for name in names:
-            s = systems.system(name)
-            scene, path = s.scene, cli.archive_path(name)
+            path, s = cli.packaged(name, systems.HELD)    # the held-input archive: our jacobi
+            scene = s.scene
             runs = {m: (lambda m=m: master.simulate(scene, m, H)) for m in CPU_METHODS}
             runs.update({label: (lambda t=tool, nat=native: tools.run(t, path, s, H, native=nat))
                          for label, (tool, native) in TOOL_RUNS.items()})

@@ -24,6 +24,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.linalg import expm
 
+from . import systems
 from .multibody import MultiScene, body, link
 from .systems import BODY, Component
 
@@ -51,7 +52,7 @@ class Chain(MultiScene):
     def components(self):
         comps = []
         for j, name in enumerate(SPRINGS):
-            p = {"elasticity.k1": float(K[j]), "cosim.extrapolation": 0}
+            p = {"elasticity.k1": float(K[j]), "cosim.extrapolation": systems.EXTRAPOLATION}
             if self.case == 1:
                 p["damping.c1"] = float(self.c[j])
             comps.append(Component(name, "ProjectionCartesian", p))

@@ -15,7 +15,9 @@ or chain.py and engine_mount.py) and the CPU time per simulated second. Any othe
 to its DefaultExperiment's stop time and writes DIR/<system>_<tool>_<H>.csv with every Real
 output of every component, from t = H (libcosim shows nothing at t = 0). --compare (one-body
 scenes) also runs our master's `jacobi` on the tool's time grid and on its own and prints the
-largest relative differences.
+largest relative differences. --extrapolation E packages the scene with every connector's
+cosim.extrapolation = E (0 hold: the held-input archive; dist/ssp's is systems.EXTRAPOLATION)
+into out/ssp/extrapolation/x<E>/<scene>.ssp and runs that.
 """
 from __future__ import annotations
 
@@ -31,6 +33,14 @@ from cosim.connectors import DIST, REPO
 from . import archive, compare, multibody, structure, systems, tools
 
 SSP_DIR = DIST / "ssp"
+VARIANTS_DIR = REPO / "out" / "ssp" / "extrapolation"
+
+
+def packaged(name, extrapolation, out=VARIANTS_DIR):
+    """Scene `name` packaged with every connector at cosim.extrapolation = `extrapolation`, as
+    out/x<E>/<name>.ssp (from dist/'s FMUs): (path, System)."""
+    system = multibody.system(name, extrapolation)
+    return archive.write(system, Path(out) / f"x{extrapolation}" / f"{name}.ssp"), system
 
 
 def archive_path(scene):
@@ -100,11 +110,20 @@ def main(argv=None):
     ap.add_argument("--out", type=Path, default=REPO / "out" / "ssp", metavar="DIR",
                     help="where the CSV goes (default out/ssp)")
     ap.add_argument("--ssp", type=Path, help="another archive of the scene (default dist/ssp/<scene>.ssp)")
+    ap.add_argument("--extrapolation", type=int, choices=(0, 1, 2, 3), metavar="E",
+                    help="a scene packaged with every connector at cosim.extrapolation = E (0 hold, "
+                         "1 linear, 2 quadratic, 3 along the acceleration inputs) instead of dist/ssp's")
     ap.add_argument("--compare", action="store_true",
                     help="also print the relative difference to our master's jacobi (one-body scenes)")
     args = ap.parse_args(argv)
 
-    if args.scene in multibody.ALL:
+    system = None
+    if args.extrapolation is not None and (args.ssp or args.scene not in multibody.ALL):
+        ap.error("--extrapolation packages a scene: give a scene's name and no --ssp")
+    if args.extrapolation is not None:
+        name = args.scene
+        path, system = packaged(name, args.extrapolation)
+    elif args.scene in multibody.ALL:
         name, path = args.scene, args.ssp or archive_path(args.scene)
     elif Path(args.scene).is_file():
         path = Path(args.scene)
@@ -126,7 +145,7 @@ def main(argv=None):
         except (tools.ToolError, ValueError) as e:
             print(f"error: {e}", file=sys.stderr)
             return 1
-    system = multibody.system(name)
+    system = system or multibody.system(name)
     scene = system.scene
     multi = name in multibody.NAMES
     try:
@@ -147,8 +166,12 @@ def main(argv=None):
     print(f"CPU   = {res.cpu / (res.t[-1] - res.t[0]):.4g} s per simulated second "
           f"(stepping and sampling, {res.cpu:.3g} s)")
     if args.compare and not multi:
-        on_grid = compare.master_as_tool(scene, "jacobi", args.tool, args.step)
-        own = master.simulate(scene, "jacobi", args.step)
-        print(f"max relative difference to our master's jacobi: {compare.difference(res, on_grid):.3g} "
-              f"on {args.tool}'s time grid, {compare.difference(res, own):.3g} on its own (t = k H)")
+        e = system.connector.params["cosim.extrapolation"]
+        on_grid = compare.master_as_tool(scene, "jacobi", args.tool, args.step, extrapolation=e)
+        line = (f"max relative difference to our master's jacobi (connector at cosim.extrapolation = {e}): "
+                f"{compare.difference(res, on_grid):.3g} on {args.tool}'s time grid")
+        if e == master.EXTRAPOLATION["jacobi"]:
+            own = master.simulate(scene, "jacobi", args.step)
+            line += f", {compare.difference(res, own):.3g} on its own (t = k H)"
+        print(line)
     return 0

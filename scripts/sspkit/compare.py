@@ -20,12 +20,16 @@ from cosim.coupling import Coupled
 from . import tools
 
 
-def master_on_grid(scene, method, t, h):
+def master_on_grid(scene, method, t, h, extrapolation=None):
     """Our master's `method` (a fixed-step one: jacobi, zoh) with the steps (t_k, h_k): the loop
-    of master.simulate on a given grid. A master.Result with the samples at t_0 … t_n."""
+    of master.simulate on a given grid. A master.Result with the samples at t_0 … t_n. With
+    `extrapolation`, the connector's cosim.extrapolation is it instead of the method's (an
+    archive's connector setting, systems.EXTRAPOLATION)."""
     body = scene.body()
     params = dict(scene.params)
     params["cosim.extrapolation"], acc = master.connector_args(method, body)
+    if extrapolation is not None:
+        params["cosim.extrapolation"] = extrapolation
     fmu = Connector(scene.variant, params, scene.init_inputs(), body.in_names, body.load_names,
                     acc_names=acc)
     try:
@@ -43,10 +47,11 @@ def master_on_grid(scene, method, t, h):
     return master.Result(t=times, p=np.array(P), u=np.array(U), method=f"{method}@{len(t)}")
 
 
-def master_as_tool(scene, method, tool, H, t_end=None):
-    """`method` of our master on the time grid of `tool` at step H."""
+def master_as_tool(scene, method, tool, H, t_end=None, extrapolation=None):
+    """`method` of our master on the time grid of `tool` at step H (the connector at
+    `extrapolation`, as master_on_grid)."""
     n = tools.steps(H, scene.t_end if t_end is None else t_end)
-    return master_on_grid(scene, method, *tools.grid(tool, H, n))
+    return master_on_grid(scene, method, *tools.grid(tool, H, n), extrapolation)
 
 
 def difference(a, b):

@@ -29,6 +29,7 @@ import math
 import numpy as np
 
 from . import engine_reference as ref
+from . import systems
 from .multibody import MultiScene, body, link
 from .systems import BODY, Component
 
@@ -73,7 +74,7 @@ class EngineMount(MultiScene):
         p = {f"elasticity.k{i}": k for i, k in enumerate(cls.STIFFNESS, 1)}
         if case == 1:
             p.update({f"damping.c{i}": c for i, c in enumerate(cls.DAMPING, 1)})
-        p["cosim.extrapolation"] = 0
+        p["cosim.extrapolation"] = systems.EXTRAPOLATION
         return p
 
     # --- the system --------------------------------------------------------------------------

@@ -118,8 +118,9 @@ def scene(name):
     return all_[name]
 
 
-def system(name):
-    """The System of any scene of ALL: the one-body scenes' from systems.py, these from here."""
-    if name in systems.NAMES:
-        return systems.system(name)
-    return scene(name).system()
+def system(name, extrapolation=None):
+    """The System of any scene of ALL: the one-body scenes' from systems.py, these from here;
+    with `extrapolation`, every connector's cosim.extrapolation set to it (systems.EXTRAPOLATION
+    otherwise)."""
+    out = systems.system(name) if name in systems.NAMES else scene(name).system()
+    return out if extrapolation is None else systems.with_extrapolation(out, extrapolation)

@@ -5,8 +5,9 @@ values of each, and the connections between them. Nothing is copied by hand: one
 scene names the components, and the helpers below translate the master's bodies (bodies.py:
 AxesBody, RigidBody) into Body FMU parameters (docs/body.md).
 
-The connector runs with cosim.extrapolation = 0 (hold): a Jacobi master hands it no input
-derivatives, and our master's `jacobi` method holds the nodes the same way.
+The connector runs with cosim.extrapolation = EXTRAPOLATION (2, quadratic from the FMU's input
+history: a Jacobi master hands it no input derivatives); with_extrapolation gives a System at
+another setting, 0 (hold) being our master's `jacobi`.
 
 Also here: which Body outputs make up the master's state (p, u) (`state_outputs`, `to_state`),
 so that a tool's samples become a master.Result. Uses cosim (scenes, bodies, driver for the
@@ -27,6 +28,11 @@ BODY = "Body"                     # the Body FMU: dist/Body.fmu
 PARAMETER_SET = "scene"           # the name of every component's parameter set (Ecos: init(parameter_set=...))
 NODE_KINDS = ("r", "q", "v", "w")  # a node's inputs a Body drives: r[i], q.*, v[i], w[i] (not dv, dw)
 AXES = "xyz"
+HELD = 0                          # cosim.extrapolation = 0: the nodes held over a step
+# every connector's cosim.extrapolation in dist/ssp: quadratic, the nodes along their velocities
+# and the accelerations the FMU takes from its input history, the most accurate setting a plain
+# master gets at 1 ms on every scene but the belt (docs/ssp.md, scripts/ssp_extrapolation.py)
+EXTRAPOLATION = 2
 
 
 @dataclass
@@ -169,8 +175,19 @@ def rigid_body(scene, body):
 
 
 def connector(scene, name):
-    """The connector component: the scene's FMU parameters, and cosim.extrapolation = 0."""
-    return Component(name, scene.variant, {**scene.params, "cosim.extrapolation": 0})
+    """The connector component: the scene's FMU parameters, and cosim.extrapolation =
+    EXTRAPOLATION."""
+    return Component(name, scene.variant, {**scene.params, "cosim.extrapolation": EXTRAPOLATION})
+
+
+def with_extrapolation(system, extrapolation):
+    """`system` with every connector's (every component with a cosim.extrapolation parameter)
+    set to `extrapolation` (0 hold … 3 along the acceleration inputs, docs/physics.md)."""
+    if extrapolation not in (0, 1, 2, 3):
+        raise ValueError(f"cosim.extrapolation must be 0, 1, 2 or 3, not {extrapolation!r}")
+    comps = [Component(c.name, c.model, {**c.params, "cosim.extrapolation": extrapolation})
+             if "cosim.extrapolation" in c.params else c for c in system.components]
+    return System(system.scene, comps, system.connections, system.body)
 
 
 def couple(scene, conn, bodies):

@@ -7,9 +7,11 @@ third-party masters, libcosim (libcosimpy) and Ecos (ecospy), no mocks:
 2. Every scene through both tools at H = 1 ms gives our master's `jacobi` (the fixed-step Jacobi
    of scripts/cosim/coupling.py) to 1e-9 relative, each run on the tool's own time grid
    (libcosim: t_k = (k·h_ns)/1e9, Ecos: the float sum t_k + H; compare.py says why the grid
-   matters); not our `zoh` (Gauss-Seidel, the connector first): the tools are Jacobi.
-   Where the motion does not hinge on the last bits of t (bounce, the pendulum), the tools also
-   give master.simulate's own run (t = k H) to 1e-9.
+   matters): the held-input archive (cosim.extrapolation = 0, packaged here) our `jacobi` as it
+   is, the archive of dist/ssp our `jacobi` with the connector at the archive's setting
+   (systems.EXTRAPOLATION); not our `zoh` (Gauss-Seidel, the connector first): the tools are
+   Jacobi (the held-input runs). Where the motion does not hinge on the last bits of t (bounce, the pendulum), the
+   held-input archive also gives master.simulate's own run (t = k H) to 1e-9.
 3. A broken connection (an endpoint naming no variable) is refused by our check and by each
    tool with its own message; a parameter naming no FMU variable and a scene's parameter left
    out are refused by our check before the run (the tools only warn, or say nothing, and run on
@@ -17,10 +19,13 @@ third-party masters, libcosim (libcosimpy) and Ecos (ecospy), no mocks:
 """
 from __future__ import annotations
 
+import atexit
 import functools
 import re
+import shutil
 import subprocess
 import sys
+import tempfile
 import zipfile
 
 import pytest
@@ -46,6 +51,17 @@ def ssp(name):
 @functools.lru_cache(maxsize=None)
 def system(name):
     return systems.system(name)
+
+
+_HELD = tempfile.mkdtemp(prefix="ssp-held-")
+atexit.register(shutil.rmtree, _HELD, True)
+
+
+@functools.lru_cache(maxsize=None)
+def held(name):
+    """(path, System) of scene `name`'s held-input archive (every connector at
+    cosim.extrapolation = 0), packaged once per session as ./scripts/ssp --extrapolation 0 does."""
+    return cli.packaged(name, systems.HELD, _HELD)
 
 
 def edited(src, dst, entry, old, new):
@@ -87,20 +103,27 @@ def test_schema_check_is_not_vacuous(tmp_path):
 
 
 # --- 2. the same trajectory as our master -----------------------------------------------------
+@pytest.mark.parametrize("archive_kind", ["held", "default"])
 @pytest.mark.parametrize("tool", tools.TOOLS)
 @pytest.mark.parametrize("name", SCENES)
-def test_tool_gives_the_masters_jacobi(name, tool):
-    s = system(name)
-    run = tools.run(tool, ssp(name), s, H)
+def test_tool_gives_the_masters_jacobi(name, tool, archive_kind):
+    path, s = held(name) if archive_kind == "held" else (ssp(name), system(name))
+    e = s.connector.params["cosim.extrapolation"]
+    assert e == (systems.HELD if archive_kind == "held" else systems.EXTRAPOLATION)
+    run = tools.run(tool, path, s, H)
     assert run.failed is None
     t, h = tools.grid(tool, H, run.steps)
     assert run.t[:-1].tolist() == t.tolist()             # the grid the tool stepped on
-    mine = compare.master_as_tool(s.scene, "jacobi", tool, H)
+    mine = compare.master_as_tool(s.scene, "jacobi", tool, H, extrapolation=e)
     assert compare.difference(run, mine) <= TOL
-    zoh = compare.master_as_tool(s.scene, "zoh", tool, H)
-    assert compare.difference(run, zoh) > 1e-3           # not Gauss-Seidel
-    if name in ("bounce", "bushing_pendulum"):
+    if archive_kind == "held":
+        zoh = compare.master_as_tool(s.scene, "zoh", tool, H)
+        assert compare.difference(run, zoh) > 1e-3       # not Gauss-Seidel
+    if archive_kind == "held" and name in ("bounce", "bushing_pendulum"):
         assert compare.difference(run, master.simulate(s.scene, "jacobi", H)) <= TOL
+    if archive_kind == "default" and systems.EXTRAPOLATION != systems.HELD:
+        # the setting moves the trajectory: the archive is not the held one under another name
+        assert compare.difference(run, compare.master_as_tool(s.scene, "jacobi", tool, H)) > 1e-6
 
 
 # --- 3. broken archives -----------------------------------------------------------------------

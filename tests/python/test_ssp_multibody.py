@@ -4,8 +4,9 @@ checks that refuse an archive that cannot work before a tool runs it (structure.
 ./scripts/ssp). No mocks: every run is the tool stepping the packaged FMUs.
 
 1. The archives validate against the SSP 1.0 schema (and fmpy's reader) and fit their scene.
-2. The chain in both tools at H = 0.1 ms is, step for step, the Jacobi coupling of the linear
-   chain written out in numpy (the Body's exact update under the held spring forces, the
+2. (The runs of 2 and 3 are of the held-input archives, every connector at cosim.extrapolation
+   = 0, packaged by the test.) The chain in both tools at H = 0.1 ms is, step for step, the
+   Jacobi coupling of the linear chain written out in numpy (the Body's exact update under the held spring forces, the
    springs at the held positions): to 1e-9 of the amplitude although the run grows by 1e3
    (plain Jacobi without damping is unstable at every H, SCENES §7), which checks the ports'
    wiring and the signs of every load; both tools agree to 1e-9 on their own grids; at small
@@ -36,8 +37,9 @@ from fmpy.ssp.ssd import read_ssd
 
 from conftest import REPO
 from sspkit import archive, chain, cli, engine_mount, engine_reference as ref, multibody, structure, tools
-# edited: a copy of an archive with one entry's text replaced; ssp: dist/ssp/<scene>.ssp
-from test_ssp import edited, ssp
+# edited: a copy of an archive with one entry's text replaced; ssp: dist/ssp/<scene>.ssp;
+# held: the scene's held-input archive (cosim.extrapolation = 0) and its System
+from test_ssp import edited, held, ssp
 
 NAMES = multibody.NAMES
 TOL = 1e-9
@@ -50,7 +52,9 @@ def system(name):
 
 @functools.lru_cache(maxsize=None)
 def run(tool, name, H, t_end=None):
-    return tools.run_multi(tool, ssp(name), system(name), H, t_end)
+    """The held-input archive's run: plain Jacobi with the nodes held, which the checks of the
+    wiring below write out (the archives of dist/ssp: test_ssp_defaults.py)."""
+    return tools.run_multi(tool, *held(name), H, t_end)
 
 
 def difference(a, b, names):
@@ -280,7 +284,7 @@ def test_an_archive_of_ones_own_runs_by_its_path(tmp_path, capsys):
         data = np.genfromtxt(tmp_path / f"my_chain_{tool}_0.001.csv", delimiter=",", names=True,
                              deletechars="")
         assert len(data) == 1000 and "m2.port[1].v[1]" in data.dtype.names
-        scene = run(tool, "chain", 1e-3)
+        scene = tools.run_multi(tool, ssp("chain"), system("chain"), 1e-3)    # the packaged one
         assert np.array_equal(data["m2.r[1]"], scene["m2.r[1]"][1:])
 
 
