@@ -6,7 +6,9 @@ against two third-party SSP masters from PyPI and against the Python master (scr
   output's largest magnitude (measured: 0, bit for bit: all three step the same FMUs with the same
   t_k, h_k and the same inputs, so any difference would be the master's own arithmetic, and a
   Jacobi master does none but the linear transformations, here all identity);
-- on its own grid (t_k = k·H, h = H) `jacobi` equals the Python master's `jacobi` on the one-body
+- on its own grid (t_k = k·H, h = H) `jacobi` on the held-input archive (every connector at
+  cosim.extrapolation = 0, as the Python master's methods drive it; dist/ssp's archives set 2,
+  docs/ssp.md) equals the Python master's `jacobi` on the one-body
   scenes (bounce, puck0, bushing_pendulum) to 1e-12 (measured ≤ 1.1e-14: the Python master
   integrates the body in numpy, the Body FMU in Rust, the same formulas in another order); on the
   belt (two Bodies, the belt prescribed) the stick/slip threshold amplifies last-bit differences
@@ -27,7 +29,7 @@ import pytest
 
 from conftest import REPO
 from cosim import master  # noqa: E402  (conftest puts scripts/ on sys.path)
-from sspkit import compare, multibody, systems, tools  # noqa: E402
+from sspkit import cli, compare, multibody, systems, tools  # noqa: E402
 
 MASTER = REPO / "target" / "release" / "master"
 H = 1e-3
@@ -42,10 +44,11 @@ def archive(name):
     return p
 
 
-def native(tmp_path, name, method="jacobi", grid="exact", stop=None):
+def native(tmp_path, name, method="jacobi", grid="exact", stop=None, held=False):
     out = tmp_path / f"{name}_{method}_{grid}.csv"
     until = [] if stop is None else ["--stop", repr(stop)]
-    p = subprocess.run([str(MASTER), "run", str(archive(name)), "--method", method, "--step", repr(H), "--grid", grid,
+    path = cli.packaged(name, systems.HELD, tmp_path)[0] if held else archive(name)
+    p = subprocess.run([str(MASTER), "run", str(path), "--method", method, "--step", repr(H), "--grid", grid,
                         *until, "--out", str(out)], capture_output=True, text=True)
     assert p.returncode == 0, p.stderr
     return np.genfromtxt(out, delimiter=",", names=True, deletechars="")
@@ -95,7 +98,7 @@ def test_jacobi_equals_the_tool_on_its_grid_with_several_bodies(tmp_path, name, 
 @pytest.mark.parametrize("name", systems.NAMES)
 def test_jacobi_equals_the_python_masters_jacobi(tmp_path, name):
     system = systems.system(name)
-    ours = as_result(system, native(tmp_path, name), "native jacobi")
+    ours = as_result(system, native(tmp_path, name, held=True), "native jacobi")
     theirs = master.simulate(system.scene, "jacobi", H)
     worst = compare.difference(ours, theirs)
     assert worst <= (1e-12 if name in ONE_BODY else 1e-5), f"{name}: {worst:.2e}"
@@ -104,7 +107,7 @@ def test_jacobi_equals_the_python_masters_jacobi(tmp_path, name):
 @pytest.mark.parametrize("name", systems.NAMES)
 def test_gauss_seidel_equals_the_python_masters_zoh(tmp_path, name):
     system = systems.system(name)
-    ours = as_result(system, native(tmp_path, name, "gauss_seidel"), "native gauss_seidel")
+    ours = as_result(system, native(tmp_path, name, "gauss_seidel", held=True), "native gauss_seidel")
     theirs = master.simulate(system.scene, "zoh", H)
     worst = compare.difference(ours, theirs)
     assert worst <= (1e-12 if name in ONE_BODY else 1e-10), f"{name}: {worst:.2e}"
