@@ -147,3 +147,22 @@ def test_feedthrough_reads_fmi3_integer_types_to_their_limits(tmp_path):
     compare(theirs, ours)
     assert {"-9223372036854775808", "9223372036854775807"} <= set(ours["Int64_output"])
     assert "18446744073709551615" in ours["UInt64_output"]
+
+
+@pytest.mark.parametrize("version", (2, 3))
+def test_a_nan_output_ends_the_run_with_its_message_and_the_rows_before(tmp_path, version):
+    """Dahlquist with k = NaN: its state, and so its output x, is NaN after the first step. The
+    master stops there with one message naming the component, the variable, the FMI function and
+    the time, keeps the row before it (t = 0, x = 1) and exits non-zero."""
+    needs_tools()
+    fmu = REF / f"fmi{version}" / "Dahlquist.fmu"
+    out = tmp_path / "nan.csv"
+    p = subprocess.run([str(MASTER), "run", str(fmu), "--step", "0.1", "--start", "k=nan", "--out", str(out)],
+                       capture_output=True, text=True)
+    assert p.returncode != 0
+    get = "fmi2GetReal" if version == 2 else "fmi3GetFloat64"
+    want = f"component 'Dahlquist': variable 'x': {get} at t = 0.1: the output is NaN"
+    assert want in p.stderr, p.stderr
+    assert p.stderr.count("\n") == 1, p.stderr          # one message
+    rows = read(out)
+    assert rows["time"] == ["0.0"] and rows["x"] == ["1.0"], rows
