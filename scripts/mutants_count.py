@@ -24,7 +24,7 @@ def equivalent_names(text: str | None = None) -> set[str]:
             continue
         m = re.match(r"\|\s*`([^`]+)`\s*\|", line)
         if inside and m:
-            names.add(m.group(1).strip())
+            names.add(m.group(1).replace("\\|", "|").strip())   # a table cell escapes its pipes
     return names
 
 
