@@ -146,3 +146,73 @@ fn a_slipping_effects_slip_stick_function_is_its_power_or_its_trial_minus_limit(
         }
     }
 }
+
+/// A stop crossed 1e-13 s into a step of 4 ms (within min_tau = 1e-10 of the step of its
+/// start): met at the start, so the step neither stops there (every early return moves the
+/// time on) nor reports it; one crossed 2 ms in is located and stopped at.
+#[test]
+fn an_event_within_min_tau_of_the_start_is_met_there() {
+    use connector_fmu::physics::connector::evaluate;
+    use connector_fmu::physics::events::{values, Taking, EVENT_TOL};
+    use connector_fmu::physics::friction::Eval;
+    use connector_fmu::physics::init::initial_state;
+    use connector_fmu::physics::kinematics::Node;
+    use connector_fmu::physics::math::Vec3;
+    use connector_fmu::physics::step::{advance_into, Ends, Rates, Tracking};
+    let ct = Variant::ProjectionCartesian.spec().connection;
+    let mut p = Params::default();
+    p.stop_upper[0] = 0.01;
+    p.stop.k = 1e4;
+    let a = Node::default();
+    let at = |x: f64| Node {
+        r: Vec3::new(x, 0.0, 0.0),
+        v: Vec3::new(1.0, 0.0, 0.0),
+        ..Node::default()
+    };
+    let st = initial_state(ct, &p, &a, &at(0.0)).expect("regular");
+    let h = 0.004;
+    for (x0, stopped) in [(0.01 - 1e-13, false), (0.008, true)] {
+        let b = at(x0);
+        let (o0, _) = evaluate(ct, &p, &st, &a, &b, Eval::Read).expect("regular");
+        let start = values(ct, &p, &st, &o0);
+        let (mut o, mut next, mut nodes, mut end) = (
+            Outputs::default(),
+            State::default(),
+            [Node::default(); 2],
+            Taking::NONE,
+        );
+        let met = advance_into(
+            ct,
+            &p,
+            &st,
+            (&a, &Rates::HOLD),
+            (&b, &Rates::from_velocities(&b)),
+            h,
+            Some(Tracking {
+                start: &start,
+                exact: true,
+                stop_at_first: true,
+                min_tau: EVENT_TOL * h,
+                t0: 0.0,
+            }),
+            Ends {
+                outputs: &mut o,
+                state: &mut next,
+                nodes: &mut nodes,
+                events: &mut end,
+            },
+        )
+        .expect("regular path");
+        assert_eq!(met.stopped, stopped, "x0 = {x0}");
+        if stopped {
+            assert!(
+                (met.tau - 0.002).abs() < EVENT_TOL * h + 1e-15,
+                "{}",
+                met.tau
+            );
+            assert_eq!(met.count, 1);
+        } else {
+            assert_eq!((met.tau, met.count), (h, 0), "x0 = {x0}");
+        }
+    }
+}
