@@ -29,22 +29,26 @@ impl Lcg {
 }
 
 fn params(coupling: i32, damped: bool) -> Params {
-    let mut p = Params::default();
-    p.friction = FrictionParams {
-        mu_static: 0.5,
-        mu_kinetic: 0.3,
-        decay: 1.0,
-        radius: 0.05,
-        f_int: 20.0,
-        m_int: 1.0,
-        k_stick: 1e4,
-        k_stick_r1: 1e2,
-        c_stick: if damped { 5.0 } else { 0.0 },
-        c_stick_r1: if damped { 0.5 } else { 0.0 },
-        coupling,
-        ..FrictionParams::default()
+    let mut stop_upper = [f64::INFINITY; 6];
+    stop_upper[1] = 0.3;
+    let mut p = Params {
+        friction: FrictionParams {
+            mu_static: 0.5,
+            mu_kinetic: 0.3,
+            decay: 1.0,
+            radius: 0.05,
+            f_int: 20.0,
+            m_int: 1.0,
+            k_stick: 1e4,
+            k_stick_r1: 1e2,
+            c_stick: if damped { 5.0 } else { 0.0 },
+            c_stick_r1: if damped { 0.5 } else { 0.0 },
+            coupling,
+            ..FrictionParams::default()
+        },
+        stop_upper,
+        ..Params::default()
     };
-    p.stop_upper[1] = 0.3;
     p.stop.c = 10.0;
     p
 }
@@ -62,14 +66,16 @@ fn outputs(rng: &mut Lcg) -> Outputs {
 }
 
 fn state(rng: &mut Lcg) -> State {
-    let mut st = State::default();
-    st.friction = FrictionState {
-        status: rng.status(),
-        status_r1: rng.status(),
-        slip_plastic: [0.01 * rng.next(), 0.01 * rng.next()],
-        slip_plastic_r1: 0.05 * rng.next(),
-        force: [10.0 * rng.next(), 10.0 * rng.next(), rng.next()],
-        ..FrictionState::default()
+    let mut st = State {
+        friction: FrictionState {
+            status: rng.status(),
+            status_r1: rng.status(),
+            slip_plastic: [0.01 * rng.next(), 0.01 * rng.next()],
+            slip_plastic_r1: 0.05 * rng.next(),
+            force: [10.0 * rng.next(), 10.0 * rng.next(), rng.next()],
+            ..FrictionState::default()
+        },
+        ..State::default()
     };
     st.stop_status[1] = if rng.next() > 0.0 { 1 } else { 0 };
     st
