@@ -3,7 +3,8 @@
 //!   declarations and the `crate::`, `super::`, `self::` paths in its code, resolved to the file
 //!   that defines the item, through `pub use` re-exports) form a graph without cycles, so every
 //!   file reads on top of the ones it uses and none of those uses it back;
-//! - no source file (`.rs`, `.py` under src/, tests/, benches/, fuzz/, scripts/, bodies/, master/) above
+//! - no source file (`.rs`, `.py` under src/, tests/, benches/, fuzz/, scripts/, bodies/,
+//!   master/, fmi_shared/, empty_fmu/) above
 //!   1,000 lines, except the literal variable table (src/model/variables.rs).
 //!
 //! Plain std: a small scanner for Rust paths (comments and literals stripped), no parser crate.
@@ -13,6 +14,19 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 const MAX_LINES: usize = 1000;
+/// The folders whose `.rs` and `.py` files the length rule covers: every folder of code the
+/// docs/README.md layout names.
+const CODE_DIRS: &[&str] = &[
+    "src",
+    "tests",
+    "benches",
+    "fuzz",
+    "scripts",
+    "bodies",
+    "master",
+    "fmi_shared",
+    "empty_fmu",
+];
 /// Files allowed above `MAX_LINES`: the literal variable table, one row per variable.
 const LONG_ALLOWED: &[&str] = &["src/model/variables.rs"];
 
@@ -619,9 +633,7 @@ fn code_files(root: &Path) -> Vec<PathBuf> {
         }
     }
     let mut out = Vec::new();
-    for d in [
-        "src", "tests", "benches", "fuzz", "scripts", "bodies", "master",
-    ] {
+    for d in CODE_DIRS {
         walk(root, &root.join(d), &mut out);
     }
     out.sort();
@@ -661,6 +673,59 @@ fn the_length_check_sees_a_long_file() {
     assert_eq!(
         long,
         vec![(PathBuf::from("scripts/long.py"), MAX_LINES + 1)]
+    );
+}
+
+/// A long file in any code folder is seen, the shared rlib's included (one file per folder of
+/// `CODE_DIRS`, one line too many each).
+#[test]
+fn the_length_check_covers_every_code_folder() {
+    let dir = std::env::temp_dir().join(format!("layout-dirs-{}", std::process::id()));
+    let mut want = Vec::new();
+    for d in CODE_DIRS {
+        std::fs::create_dir_all(dir.join(d).join("inner")).unwrap();
+        let p = PathBuf::from(d).join("inner").join("long.rs");
+        std::fs::write(dir.join(&p), "//\n".repeat(MAX_LINES + 1)).unwrap();
+        want.push((p, MAX_LINES + 1));
+    }
+    let mut long = long_files(&dir);
+    std::fs::remove_dir_all(&dir).ok();
+    long.sort();
+    want.sort();
+    assert_eq!(long, want);
+}
+
+/// Every top-level folder of the repository that holds Rust or Python code is one the length
+/// rule covers (fmi_shared/ and empty_fmu/ among them); build output and environments aside.
+#[test]
+fn every_code_folder_is_covered() {
+    fn has_code(p: &Path) -> bool {
+        std::fs::read_dir(p)
+            .into_iter()
+            .flatten()
+            .flatten()
+            .any(|e| {
+                let (p, name) = (e.path(), e.file_name().to_string_lossy().into_owned());
+                if p.is_dir() {
+                    name != "target" && !name.starts_with('.') && has_code(&p)
+                } else {
+                    name.ends_with(".rs") || name.ends_with(".py")
+                }
+            })
+    }
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut uncovered = Vec::new();
+    for e in std::fs::read_dir(root).unwrap().flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let built = matches!(name.as_str(), "target" | "dist" | "out") || name.starts_with('.');
+        if e.path().is_dir() && !built && has_code(&e.path()) && !CODE_DIRS.contains(&name.as_str())
+        {
+            uncovered.push(name);
+        }
+    }
+    assert!(
+        uncovered.is_empty(),
+        "code folders outside the length rule: {uncovered:?}"
     );
 }
 

@@ -59,6 +59,7 @@ fn node_loads_are_in_equilibrium() {
     let p = springs();
     for spec in VARIANTS {
         let ct = spec.connection;
+        let mut checked = 0;
         for _ in 0..100 {
             let (a0, b0) = (rng.node(0.8), rng.node(0.8));
             let Ok(st) = initial_state(ct, &p, &a0, &b0) else {
@@ -68,6 +69,7 @@ fn node_loads_are_in_equilibrium() {
             let Ok((o, _)) = evaluate(ct, &p, &st, &a, &b, Eval::Read) else {
                 continue;
             };
+            checked += 1;
             let scale = 1.0 + o.fa.norm() + o.ma.norm() + o.mb.norm();
             assert!(
                 (o.fa + o.fb).norm() < 1e-12 * scale,
@@ -82,6 +84,14 @@ fn node_loads_are_in_equilibrium() {
                 m.norm()
             );
         }
+        // the kernel refuses only singular poses (flexion near π, an undefined revolute angle),
+        // which these random ones are not: 100 of 100 are checked; fewer than 90 means the
+        // kernel refuses regular poses, and the test above would pass on nothing
+        assert!(
+            checked >= 90,
+            "{}: {checked} of 100 poses checked",
+            spec.model_identifier
+        );
     }
 }
 
@@ -95,11 +105,13 @@ fn elastic_loads_are_minus_energy_gradient() {
     p.constraint.c = 0.0;
     for spec in VARIANTS {
         let ct: ConnectionType = spec.connection;
+        let mut checked = 0;
         for _ in 0..20 {
             let (a0, b0) = (rng.node(0.6), rng.node(0.6));
             let Ok(st) = initial_state(ct, &p, &a0, &b0) else {
                 continue;
             };
+            checked += 1;
             let a = moved(&a0, rng.vec(0.05), rng.vec(0.2));
             let b = moved(&b0, rng.vec(0.05), rng.vec(0.2));
             let (o, _) = evaluate(ct, &p, &st, &a, &b, Eval::Read).expect("regular");
@@ -144,6 +156,12 @@ fn elastic_loads_are_minus_energy_gradient() {
                 }
             }
         }
+        // as above: 20 of 20 regular initial poses measured
+        assert!(
+            checked >= 18,
+            "{}: {checked} of 20 poses checked",
+            spec.model_identifier
+        );
     }
 }
 
@@ -272,8 +290,11 @@ fn energy_balance_along_a_driven_path() {
                 "PLANAR friction slips on this path"
             );
         }
+        // measured |residual| / dissipated: 3.8e-4 (RadialThrust), 3.9e-5 (ProjectionCartesian),
+        // 3.7e-5 (Bushing), 9.2e-6 (ProjectionFlexionTorsion), 3.6e-7 (Planar): the trapezoidal
+        // work's O(h²) error at h = 0.2 ms; 1e-3 leaves a factor 2.7 over the worst
         assert!(
-            balance.abs() < 2e-3 * dissipated,
+            balance.abs() < 1e-3 * dissipated,
             "{}: work {work} stored {} dissipated {dissipated} (damping {}, friction {}, stops {}) residual {balance}",
             spec.model_identifier,
             e.stored,

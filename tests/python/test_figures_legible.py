@@ -20,6 +20,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import pytest  # noqa: E402
+from matplotlib.transforms import IdentityTransform  # noqa: E402
 
 import conftest  # noqa: F401,E402  (puts scripts/ on sys.path)
 from figures import data, legible, stability, style, wp  # noqa: E402
@@ -253,3 +254,116 @@ def test_default_scene_figure_is_legible():
     assert not legends_over_data(fig)
     assert not labels_over_labels(fig)
     assert legible.problems(fig) == []
+
+
+# -- negative controls for every other kind of problem (each fails when its check is removed) ---
+PIXELS = IdentityTransform()     # anchors in display pixels, where the boxes are measured
+
+
+def _legend_box(fig, lg):
+    return lg.get_window_extent(legible.renderer_of(fig))
+
+
+def _kinds(fig, *words):
+    """The problems whose message holds every one of `words`."""
+    return [p for p in legible.problems(fig) if all(w in p for w in words)]
+
+
+def _room_right():
+    """A figure whose axes leave the right 40 % of the page empty (no layout engine)."""
+    fig, ax = plt.subplots(figsize=(6, 4))
+    fig.subplots_adjust(left=0.12, right=0.6, bottom=0.15, top=0.85)
+    ax.plot([1, 2, 3], [1, 4, 9], marker="o", label="data")
+    ax.plot([1, 2, 3], [9, 4, 1], marker="s", label="more")
+    return fig, ax
+
+
+def test_control_a_legend_over_another_legend_is_found():
+    fig, ax = _room_right()
+    fig.legend(loc="center right", fontsize=8)
+    fig.legend(loc="center right", fontsize=8, bbox_to_anchor=(0.98, 0.52))
+    assert _kinds(fig, "legend 1 lies over legend 0")
+    assert not _kinds(fig, "data area"), "apart from the data: only the two legends meet"
+
+
+def test_control_a_legend_over_the_tick_labels_is_found():
+    """A figure legend over the x tick labels, below the data area: found through the axes'
+    decorations (tick labels), and not as a legend over the data."""
+    fig, ax = _room_right()
+    r = legible.renderer_of(fig)
+    ticks = [b for what, b in legible.decorations(ax, r) if what.startswith("tick label")]
+    assert ticks, "decorations lists the drawn tick labels"
+    xt = [b for b in ticks if b.y1 < ax.get_window_extent(r).y0]          # below the axes
+    mid = xt[len(xt) // 2]
+    fig.legend(handles=ax.get_lines()[:1], loc="center", fontsize=6, borderpad=0.1,
+               bbox_to_anchor=((mid.x0 + mid.x1) / 2, (mid.y0 + mid.y1) / 2),
+               bbox_transform=PIXELS)
+    assert _kinds(fig, "legend 0 lies over tick label")
+    assert not _kinds(fig, "data area")
+
+
+def test_control_a_legend_over_an_axis_label_is_found():
+    fig, ax = _room_right()
+    ax.set_ylabel("a long axis label on the left")
+    r = legible.renderer_of(fig)
+    lab = legible.text_box(ax.yaxis.label, r)
+    fig.legend(handles=ax.get_lines()[:1], loc="center", fontsize=6, borderpad=0.1,
+               bbox_to_anchor=((lab.x0 + lab.x1) / 2, (lab.y0 + lab.y1) / 2), bbox_transform=PIXELS)
+    assert _kinds(fig, "legend 0 lies over 'a long axis label")
+
+
+def test_control_a_legend_off_the_page_is_found():
+    fig, ax = _room_right()
+    fig.legend(loc="center left", bbox_to_anchor=(0.9, 0.5), fontsize=8)
+    assert _kinds(fig, "legend 0 reaches outside the figure")
+    assert not _kinds(fig, "data area")
+
+
+def test_control_a_caption_over_a_legend_is_found():
+    fig, ax = _room_right()
+    lg = fig.legend(loc="center right", fontsize=8)
+    b = _legend_box(fig, lg)
+    fig.text((b.x0 + b.x1) / 2, (b.y0 + b.y1) / 2, "caption", transform=None, ha="center", va="center")
+    assert _kinds(fig, "caption 'caption' lies over a legend")
+    assert not _kinds(fig, "caption", "data area")
+
+
+def test_control_a_caption_over_the_title_is_found():
+    fig, ax = _room_right()
+    ax.set_title("the title of the axes")
+    fig.text(0.36, 0.87, "a caption on the title", ha="center", va="bottom")
+    assert _kinds(fig, "caption 'a caption on the title' lies over 'the title of the axes'")
+    assert not _kinds(fig, "caption", "data area")
+
+
+def test_control_two_captions_over_each_other_are_found():
+    fig, ax = _room_right()
+    fig.text(0.8, 0.1, "first caption")
+    fig.text(0.8, 0.1, "second caption")
+    assert _kinds(fig, "caption 'second caption' lies over caption 'first caption'")
+
+
+def test_control_a_caption_off_the_page_is_found():
+    fig, ax = _room_right()
+    fig.text(0.9, 0.5, "a caption that runs off the right edge")
+    assert _kinds(fig, "caption 'a caption that runs off the right edge' reaches outside the figure")
+
+
+def test_control_a_label_over_a_legend_is_found():
+    fig, ax = _plain()
+    lg = ax.legend(loc="upper left")
+    b = lg.get_texts()[0].get_window_extent(legible.renderer_of(fig))
+    ax.annotate("on the legend", ((b.x0 + b.x1) / 2, (b.y0 + b.y1) / 2), xycoords="figure pixels",
+                ha="center", va="center", fontsize=7)
+    assert _kinds(fig, "label 'on the legend'", "lies over a legend")
+
+
+def test_control_a_label_outside_its_axes_is_found():
+    fig, ax = _plain()
+    ax.annotate("outside", (3.2, 9.5), xytext=(40, 20), textcoords="offset points",
+                annotation_clip=False)
+    assert _kinds(fig, "label 'outside'", "reaches outside its axes")
+    # a label of the same text well inside the axes is not reported
+    fig2, ax2 = _plain()
+    ax2.annotate("outside", (1.2, 7.0))
+    assert not _kinds(fig2, "reaches outside")

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import pytest
 
+import _ref
 from _cosim_helpers import H_ROLL, fmi2LastSuccessfulTime, scenario
 from conftest import VARIANTS, model_description
 
@@ -17,7 +18,16 @@ fmi2Terminated = 3  # fmi2StatusKind
 @pytest.mark.parametrize("variant", VARIANTS)
 def test_status_and_reset(conn, variant):
     params, inputs_at = scenario(variant)
-    c = conn(variant).start(params, inputs_at(0.0), t0=0.25)
+    # the Integer and Boolean parameters away from their start values too, so that the reset
+    # has something to restore in every type: hold extrapolation (start 1), the coupled
+    # friction surface (Planar; start 0), a given reference on the first component (start false)
+    _, k = _ref.components_of(variant)[0]
+    discrete = {"cosim.extrapolation": 0, f"reference.given{k}": True}
+    if variant == "Planar":
+        discrete["friction.coupling"] = 1
+    c = conn(variant).start({**params, **discrete}, inputs_at(0.0), t0=0.25)
+    for name, val in discrete.items():
+        assert c.value(name) == val, name
     # before any step: the start time
     assert c.s.getRealStatus(fmi2LastSuccessfulTime) == 0.25
     assert c.s.getBooleanStatus(fmi2Terminated) is False
@@ -41,9 +51,15 @@ def test_status_and_reset(conn, variant):
         r = c.v[name]
         got = c.s.getReal([r])[0] if r.type == "Real" else c.s.getInteger([r])[0]
         assert float(got) == float(starts[name]), (name, got, starts[name])
-    # cosim.extrapolation back to its default 1 (after a run that did not change it) and the
-    # inputs back to their start values
-    assert c.s.getInteger([c.v["cosim.extrapolation"]])[0] == 1
+    # the Integer and Boolean parameters changed before the run back at their start values
+    # (start attributes are strings in fmpy: "1", "0", "false"), and the inputs too
+    start_of = {"Integer": int, "Boolean": lambda s: s == "true"}
+    for name in discrete:
+        want = start_of[c.v[name].type](starts[name])
+        assert c.value(name) == want, (name, c.value(name), want)
+    assert c.value("cosim.extrapolation") == 1 and not c.value(f"reference.given{k}")
+    if variant == "Planar":
+        assert c.value("friction.coupling") == 0
     for r in c.real_in:
         assert c.s.getReal([r])[0] == float(starts[r.name]), r.name
 
