@@ -14,15 +14,11 @@ use connector_fmu::physics::friction::{
 };
 use connector_fmu::variables::Variant;
 
-struct Lcg(u64);
+#[path = "common/lcg.rs"]
+mod lcg;
+use lcg::Lcg;
+
 impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-    }
     fn status(&mut self) -> Status {
         [Status::NoNormal, Status::Stick, Status::Slip][((self.next() + 1.0) * 1.5) as usize % 3]
     }

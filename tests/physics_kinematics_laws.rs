@@ -6,15 +6,11 @@
 use connector_fmu::physics::kinematics::{flexion, shaft};
 use connector_fmu::physics::math::{Quat, Vec3};
 
-struct Lcg(u64);
+#[path = "common/lcg.rs"]
+mod lcg;
+use lcg::Lcg;
+
 impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-    }
     fn quat(&mut self) -> Quat {
         Quat::from_scaled_axis(Vec3::new(self.next(), self.next(), self.next()) * 3.0)
     }
