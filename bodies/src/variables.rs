@@ -375,9 +375,21 @@ const BODY: [Var; BODY_ROWS] = [
     par(551, "rigid.maxTurn", MAX_TURN, 0.05, "rad", GT0, "model 1: largest turn of the body per RK4 substep, > 0"),
 ];
 
-/// The row of value reference `vr`.
+/// The row of value reference `vr`: one look-up in an index built once (the body's rows are
+/// numbered below 1000 and port k's 1000·k above them, so the index has a few thousand entries;
+/// a master that reads every output every step pays no search through the table).
 pub fn by_vr(vr: u32) -> Option<&'static Var> {
-    VARS.iter().find(|v| v.vr == vr)
+    static INDEX: OnceLock<Vec<u16>> = OnceLock::new();
+    let index = INDEX.get_or_init(|| {
+        let top = VARS.iter().map(|v| v.vr as usize).max().unwrap_or(0);
+        let mut at = vec![u16::MAX; top + 1];
+        for (row, v) in VARS.iter().enumerate() {
+            at[v.vr as usize] = row as u16;
+        }
+        at
+    });
+    let row = *index.get(vr as usize)?;
+    VARS.get(row as usize)
 }
 
 /// The row named `name`.

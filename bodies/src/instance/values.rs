@@ -7,7 +7,7 @@
 use super::data::Mode;
 use super::{Call, FmiVersion, Instance};
 use crate::error::{FmuError, FmuResult};
-use crate::physics::{self, ports, Body};
+use crate::physics::{self, ports, Body, PORTS};
 use crate::variables::{by_vr, Causality, Out, Slot, Var, TIME_VR};
 
 /// What a value reference is, for an access of Reals (`integer == false`) or Integers.
@@ -59,26 +59,28 @@ impl Instance {
         Ok(self.data.body)
     }
 
-    /// Reals (and FMI 3.0's time) into `out`, written only when every value reference is good.
+    /// Reals (and FMI 3.0's time) into `out`, written only when every value reference is good:
+    /// every one is checked first, then each read (no allocation; a port's frame is computed
+    /// once per call, however many of its outputs are read).
     pub fn get_real(&self, vrs: &[u32], out: &mut [f64]) -> FmuResult<()> {
         self.allowed(Call::Get)?;
-        let targets = vrs
-            .iter()
-            .map(|&vr| self.target(vr, false))
-            .collect::<FmuResult<Vec<_>>>()?;
-        let reads_output =
-            |t: &Target| matches!(t, Target::Var(v) if v.causality == Causality::Output);
-        let body = match targets.iter().any(reads_output) {
+        let mut reads_output = false;
+        for &vr in vrs {
+            let t = self.target(vr, false)?;
+            reads_output |= matches!(t, Target::Var(v) if v.causality == Causality::Output);
+        }
+        let body = match reads_output {
             true => self.shown_body()?,
             false => self.data.body,
         };
         let params = self.data.params();
-        for (o, t) in out.iter_mut().zip(&targets) {
-            *o = match t {
+        let mut frames = [None; PORTS];
+        for (o, &vr) in out.iter_mut().zip(vrs) {
+            *o = match self.target(vr, false)? {
                 Target::Time => self.data.time,
                 Target::Var(v) => match v.slot {
                     Slot::Real(i) => self.data.reals[i],
-                    Slot::Out(out) => output(&params, &body, out),
+                    Slot::Out(out) => output(&params, &body, out, &mut frames),
                     // `target` gives Real rows only; an Integer slot cannot occur here
                     Slot::Int(i) => f64::from(self.data.ints[i]),
                 },
@@ -125,32 +127,37 @@ impl Instance {
     /// not finite, out of range), none.
     pub fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> FmuResult<()> {
         self.allowed(Call::Set)?;
-        let mut slots = Vec::with_capacity(vrs.len());
+        // every value checked before any is written (no allocation: the look-up is an index)
         for (&vr, &x) in vrs.iter().zip(values) {
-            let v = match self.target(vr, false)? {
-                Target::Time => {
-                    return Err(FmuError::error(
-                        "time (vr 0) is the independent variable and cannot be set",
-                    ))
-                }
-                Target::Var(v) => v,
-            };
-            self.settable(v)?;
-            if !x.is_finite() {
-                return Err(FmuError::error(format!(
-                    "{} = {x:?} is refused: values must be finite",
-                    v.name
-                )));
-            }
-            v.check_range(x).map_err(FmuError::error)?;
-            if let Slot::Real(i) = v.slot {
-                slots.push((i, x));
-            }
+            self.real_to_set(vr, x)?;
         }
-        for (i, x) in slots {
-            self.data.reals[i] = x;
+        for (&vr, &x) in vrs.iter().zip(values) {
+            if let Slot::Real(i) = self.real_to_set(vr, x)?.slot {
+                self.data.reals[i] = x;
+            }
         }
         Ok(())
+    }
+
+    /// The row `vr` of a Real that may be set to `x` now; Err names it and why not.
+    fn real_to_set(&self, vr: u32, x: f64) -> FmuResult<&'static Var> {
+        let v = match self.target(vr, false)? {
+            Target::Time => {
+                return Err(FmuError::error(
+                    "time (vr 0) is the independent variable and cannot be set",
+                ))
+            }
+            Target::Var(v) => v,
+        };
+        self.settable(v)?;
+        if !x.is_finite() {
+            return Err(FmuError::error(format!(
+                "{} = {x:?} is refused: values must be finite",
+                v.name
+            )));
+        }
+        v.check_range(x).map_err(FmuError::error)?;
+        Ok(v)
     }
 
     /// Sets Integers: all of them or none (as `set_real`).
@@ -190,17 +197,24 @@ impl Instance {
     }
 }
 
-/// The value of an output for the body `b`.
-fn output(p: &physics::Params, b: &Body, out: Out) -> f64 {
+/// The value of an output for the body `b`; `frames` holds the port frames computed so far in
+/// this read.
+fn output(
+    p: &physics::Params,
+    b: &Body,
+    out: Out,
+    frames: &mut [Option<ports::PortState>; PORTS],
+) -> f64 {
+    let mut frame = |k: usize| *frames[k].get_or_insert_with(|| ports::kinematics(b, &p.ports[k]));
     match out {
         Out::R(i) => b.r[i],
         Out::Q(i) => b.q[i],
         Out::V(i) => b.v[i],
         Out::W(i) => b.w[i],
-        Out::PortR(k, i) => ports::kinematics(b, &p.ports[k]).r[i],
-        Out::PortQ(k, i) => ports::kinematics(b, &p.ports[k]).q[i],
-        Out::PortV(k, i) => ports::kinematics(b, &p.ports[k]).v[i],
-        Out::PortW(k, i) => ports::kinematics(b, &p.ports[k]).w[i],
+        Out::PortR(k, i) => frame(k).r[i],
+        Out::PortQ(k, i) => frame(k).q[i],
+        Out::PortV(k, i) => frame(k).v[i],
+        Out::PortW(k, i) => frame(k).w[i],
         Out::Kinetic => physics::energies(p, b).0,
         Out::Potential => physics::energies(p, b).1,
     }
