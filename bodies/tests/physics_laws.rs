@@ -13,20 +13,25 @@ use body_fmu::physics::quat::{cross, mat_t_vec, mat_vec, matrix, mul, Quat, Vec3
 use body_fmu::physics::rigid;
 use body_fmu::physics::{Body, Load, Model, Params};
 
-struct Lcg(u64);
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-    }
+mod common;
+use common::Lcg;
+
+/// Draws in [−1, 1) from the tests' generator (`common::Lcg`).
+trait Draws {
+    fn vec(&mut self) -> Vec3;
+    fn unit_quat(&mut self) -> Quat;
+}
+
+impl Draws for Lcg {
     fn vec(&mut self) -> Vec3 {
-        [self.next(), self.next(), self.next()]
+        [
+            self.range(-1.0, 1.0),
+            self.range(-1.0, 1.0),
+            self.range(-1.0, 1.0),
+        ]
     }
     fn unit_quat(&mut self) -> Quat {
-        let q = [self.next(), self.next(), self.next(), self.next()];
+        let q = [(); 4].map(|_| self.range(-1.0, 1.0));
         let n = q.iter().map(|x| x * x).sum::<f64>().sqrt();
         q.map(|x| x / n)
     }

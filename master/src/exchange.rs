@@ -195,8 +195,8 @@ impl Exchange {
             let (c, v) = l.to;
             let var = &sys.md(c).variables[v];
             let ports = &mut x.ports[c];
-            let g = match ports.inputs.iter().position(|g| g.ty == var.ty) {
-                Some(i) => &mut ports.inputs[i],
+            let i = match ports.inputs.iter().position(|g| g.ty == var.ty) {
+                Some(i) => i,
                 None => {
                     ports.inputs.push(InputGroup {
                         ty: var.ty,
@@ -205,9 +205,10 @@ impl Exchange {
                         reals: Vec::new(),
                         ints: Vec::new(),
                     });
-                    ports.inputs.last_mut().expect("just pushed")
+                    ports.inputs.len() - 1
                 }
             };
+            let g = &mut ports.inputs[i];
             g.vrs.push(var.vr);
             g.sources.push((src, l.factor, l.offset));
             g.reals.push(0.0);

@@ -109,7 +109,8 @@ pub fn gauss_seidel(sys: &System) -> Result<Vec<usize>> {
         let ready = (0..n)
             .filter(|&c| !placed[c])
             .min_by_key(|&c| (before[c].iter().filter(|&&a| !placed[a]).count(), c));
-        let c = ready.expect("some component is left");
+        // some component is left while the order is short
+        let Some(c) = ready else { break };
         placed[c] = true;
         order.push(c);
     }

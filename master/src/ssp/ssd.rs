@@ -218,13 +218,13 @@ impl Reader<'_> {
             Some(el) => match names.get(el) {
                 Some(true) => {
                     let q = format!("{path}{el}");
-                    let i = self
-                        .desc
-                        .components
-                        .iter()
-                        .position(|c| c.name == q)
-                        .expect("components are read before connections");
-                    Ok(Node::Fmu(i, connector.to_string()))
+                    // components are read before connections
+                    match self.desc.components.iter().position(|c| c.name == q) {
+                        Some(i) => Ok(Node::Fmu(i, connector.to_string())),
+                        None => Err(Error::new(format!(
+                            "the connection names the component '{q}', which was not read"
+                        ))),
+                    }
                 }
                 Some(false) => Ok(Node::System(format!("{path}{el}."), connector.to_string())),
                 None => Err(Error::new(format!(
